@@ -1,0 +1,15 @@
+#pragma once
+// The subcommands of the ldlpgs program. Each registers its options on the CLI11 app and
+// returns the function that runs it (exit code 0, 1 for a failed check, 2 for bad input).
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace ldlpgs::cli {
+
+using Command = std::function<int()>;
+
+Command add_order_command(CLI::App& app);
+Command add_report_command(CLI::App& app);
+
+}  // namespace ldlpgs::cli

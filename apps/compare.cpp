@@ -1,0 +1,126 @@
+#include "apps/compare.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "sparse/families.h"
+#include "sparse/matrix_market.h"
+#include "sparse/partition.h"
+
+namespace ldlpgs::cli {
+
+Problem load_matrix(const std::string& path, const std::string& blocks_spec, int max_block) {
+  Problem p;
+  p.name = std::filesystem::path(path).filename().string();
+  p.a = read_matrix_market(path);
+  p.blocks = BlockPattern::from_scalar(p.a, parse_partition(blocks_spec, p.a, max_block));
+  p.scalar_graph = graph_of(p.a);
+  return p;
+}
+
+Problem make_mechanism(const std::string& family, int num_constraints) {
+  Problem p;
+  p.blocks = constraint_graph(make_family(family, num_constraints));
+  p.name = family + "-" + std::to_string(p.blocks.num_blocks());
+  p.a = p.blocks.expand();
+  p.scalar_graph = graph_of(p.a);
+  return p;
+}
+
+std::vector<Row> compare(const Problem& p, const std::vector<std::string>& names, bool with_cholmod) {
+  std::vector<Row> rows;
+  std::optional<Cholmod> cm;
+  if (with_cholmod) cm.emplace();
+  for (const std::string& name : names) {
+    Row r;
+    r.ordering = compute_ordering(find_ordering(name), p.blocks, p.a);
+    r.summary = summarize(r.ordering, p.blocks, p.scalar_graph);
+    if (cm) r.cholmod = cholmod_counts(p.a, r.ordering.perm, *cm);
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
+namespace {
+
+std::string si(double x) {
+  char buf[32];
+  if (x >= 1e9) std::snprintf(buf, sizeof buf, "%.3gG", x / 1e9);
+  else if (x >= 1e6) std::snprintf(buf, sizeof buf, "%.3gM", x / 1e6);
+  else if (x >= 1e4) std::snprintf(buf, sizeof buf, "%.3gk", x / 1e3);
+  else std::snprintf(buf, sizeof buf, "%.0f", x);
+  return buf;
+}
+
+}  // namespace
+
+void print_table(std::FILE* out, const Problem& p, const std::vector<Row>& rows, bool markdown) {
+  const bool with_cholmod = !rows.empty() && rows.front().cholmod.has_value();
+  // The best of each column gets a '*' (ties included): fewest entries, flops, fill.
+  auto best = [&](auto get) {
+    double b = 1e300;
+    for (const Row& r : rows) {
+      if (auto v = get(r)) b = std::min(b, *v);
+    }
+    return b;
+  };
+  auto nnz = [](const Row& r) { return std::optional<double>(r.summary.nnz_L); };
+  auto fl = [](const Row& r) { return std::optional<double>(r.summary.flops); };
+  auto fill = [](const Row& r) {
+    return r.summary.block ? std::optional<double>(r.summary.block->fill_edges) : std::nullopt;
+  };
+  auto bfl = [](const Row& r) {
+    return r.summary.block ? std::optional<double>(r.summary.block->flops) : std::nullopt;
+  };
+  const double best_nnz = best(nnz), best_fl = best(fl), best_fill = best(fill), best_bfl = best(bfl);
+  auto cell = [&](std::optional<double> v, double b, bool exact) {
+    if (!v) return std::string("-");
+    return (exact ? std::to_string(static_cast<long long>(*v)) : si(*v)) + (*v == b ? "*" : "");
+  };
+  const char* sep = markdown ? " | " : "  ";
+  std::fprintf(out, "%s%s: n = %d, %d blocks, %lld block edges, nnz(A) = %lld\n", markdown ? "\n#### " : "",
+               p.name.c_str(), p.a.n, p.blocks.num_blocks(), static_cast<long long>(p.blocks.num_edges()),
+               static_cast<long long>(2 * p.a.nnz() - p.a.n));
+  if (markdown) std::fprintf(out, "\n");
+  std::fprintf(out, "%s%-13s%s%10s%s%9s%s%11s%s%11s%s%9s", markdown ? "| " : "", "ordering", sep, "nnz(L)", sep,
+               "flops", sep, "block fill", sep, "block flops", sep, "time ms");
+  if (with_cholmod) std::fprintf(out, "%s%14s%s%14s", sep, "CHOLMOD nnz(L)", sep, "CHOLMOD flops");
+  std::fprintf(out, "%s\n", markdown ? " |" : "");
+  if (markdown) std::fprintf(out, "|---|---:|---:|---:|---:|---:|%s\n", with_cholmod ? "---:|---:|" : "");
+  for (const Row& r : rows) {
+    std::fprintf(out, "%s%-13s%s%10s%s%9s%s%11s%s%11s%s%9.2f", markdown ? "| " : "", r.summary.name.c_str(), sep,
+                 cell(nnz(r), best_nnz, true).c_str(), sep, cell(fl(r), best_fl, false).c_str(), sep,
+                 cell(fill(r), best_fill, true).c_str(), sep, cell(bfl(r), best_bfl, false).c_str(), sep,
+                 r.summary.time_ms);
+    if (r.cholmod) {
+      std::fprintf(out, "%s%14.0f%s%14s", sep, r.cholmod->lnz, sep, si(r.cholmod->fl).c_str());
+    }
+    std::fprintf(out, "%s\n", markdown ? " |" : "");
+  }
+}
+
+nlohmann::json to_json(const Problem& p, const std::vector<Row>& rows) {
+  nlohmann::json j = {{"matrix", p.name}, {"n", p.a.n}, {"blocks", p.blocks.num_blocks()}};
+  nlohmann::json results = nlohmann::json::array();
+  for (const Row& r : rows) {
+    nlohmann::json x = {{"ordering", r.summary.name},
+                        {"nnz_L", r.summary.nnz_L},
+                        {"flops", r.summary.flops},
+                        {"block_fill_edges", nullptr},
+                        {"block_flops", nullptr},
+                        {"time_ms", r.summary.time_ms}};
+    if (r.summary.block) {
+      x["block_fill_edges"] = r.summary.block->fill_edges;
+      x["block_flops"] = r.summary.block->flops;
+    }
+    if (r.cholmod) {
+      x["nnz_L_cholmod"] = r.cholmod->lnz;
+      x["flops_cholmod"] = r.cholmod->fl;
+    }
+    results.push_back(std::move(x));
+  }
+  j["results"] = std::move(results);
+  return j;
+}
+
+}  // namespace ldlpgs::cli

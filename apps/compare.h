@@ -1,0 +1,39 @@
+#pragma once
+// The orderings comparison shared by `ldlpgs order` and `ldlpgs report`: one matrix with its
+// block partition, every requested ordering run on it, and the output as a table or JSON.
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ordering/metrics.h"
+#include "sparse/cholmod_adapter.h"
+
+namespace ldlpgs::cli {
+
+struct Problem {
+  std::string name;  // file name or family name with its size
+  SymmetricCsc a;
+  BlockPattern blocks;
+  Graph scalar_graph;
+};
+
+// Reads a Matrix Market file and partitions it (spec as --blocks: auto, N or FILE).
+Problem load_matrix(const std::string& path, const std::string& blocks_spec, int max_block);
+// A generated mechanism: its constraint graph with every block dense.
+Problem make_mechanism(const std::string& family, int num_constraints);
+
+struct Row {
+  OrderingSummary summary;
+  Ordering ordering;
+  std::optional<CholmodCounts> cholmod;  // CHOLMOD's counts for the same permutation
+};
+
+std::vector<Row> compare(const Problem& p, const std::vector<std::string>& names, bool with_cholmod);
+
+void print_table(std::FILE* out, const Problem& p, const std::vector<Row>& rows, bool markdown = false);
+nlohmann::json to_json(const Problem& p, const std::vector<Row>& rows);
+
+}  // namespace ldlpgs::cli

@@ -1,0 +1,37 @@
+// ldlpgs: the command-line program. Subcommands: order, report (ldlpgs SUBCOMMAND --help).
+// Bad input ends with a one-line message naming the file, line and problem, and exit code 2.
+#include <cstdio>
+#include <map>
+
+#include "apps/commands.h"
+#include "sparse/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"ldlpgs: block-sparse LDL^T with graph-elimination orderings, for mechanisms"};
+  app.require_subcommand(1);
+  std::map<CLI::App*, ldlpgs::cli::Command> commands;
+  auto add = [&](ldlpgs::cli::Command (*make)(CLI::App&)) {
+    const size_t before = app.get_subcommands({}).size();
+    ldlpgs::cli::Command run = make(app);
+    commands[app.get_subcommands({})[before]] = std::move(run);
+  };
+  add(ldlpgs::cli::add_order_command);
+  add(ldlpgs::cli::add_report_command);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "ldlpgs: %s\n", e.what());
+    return 2;
+  }
+  try {
+    for (CLI::App* sub : app.get_subcommands()) return commands.at(sub)();
+  } catch (const ldlpgs::InputError& e) {
+    std::fprintf(stderr, "ldlpgs: %s\n", e.what());
+    return 2;
+  }
+  return 2;
+}

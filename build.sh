@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# ./build.sh test    install missing Debian packages, build into build/, run ctest
+# ./build.sh report  the same set-up, then the main job: build/bin/ldlpgs report
+# ./build.sh build   set-up and build only
+# Environment: BUILD_DIR (default build), SANITIZE=1 (AddressSanitizer + UBSan build),
+#              JOBS (default: number of cores).
+set -euo pipefail
+cd "$(dirname "$0")"
+cmd=${1:-test}
+shift || true
+
+packages=(cmake g++ make libsuitesparse-dev libmetis-dev libeigen3-dev libgtest-dev
+          libbenchmark-dev nlohmann-json3-dev libcli11-dev)
+
+install_missing() {
+  local missing=()
+  for p in "$@"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if ((${#missing[@]})); then
+    echo "build.sh: installing ${missing[*]}"
+    local sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  fi
+}
+
+build() {
+  install_missing "${packages[@]}"
+  local dir=${BUILD_DIR:-build}
+  local sanitize=OFF
+  [ "${SANITIZE:-0}" = 1 ] && sanitize=ON
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLDLPGS_SANITIZE=$sanitize
+  cmake --build "$dir" -j "${JOBS:-$(nproc)}"
+}
+
+case "$cmd" in
+  build) build ;;
+  test)
+    build
+    ctest --test-dir "${BUILD_DIR:-build}" --output-on-failure -j "${JOBS:-$(nproc)}" "$@"
+    ;;
+  report)
+    build
+    "${BUILD_DIR:-build}/bin/ldlpgs" report "$@"
+    ;;
+  *) echo "usage: ./build.sh test|report|build" >&2; exit 2 ;;
+esac

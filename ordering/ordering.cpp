@@ -1,0 +1,81 @@
+#include "ordering/ordering.h"
+
+#include <array>
+#include <cassert>
+#include <chrono>
+
+#include "sparse/error.h"
+
+namespace ldlpgs {
+
+namespace {
+constexpr std::array<OrderingInfo, 9> kOrderings = {{
+    {"natural", order_natural, Level::block, "blocks in their given order"},
+    {"mda", order_mda, Level::block, "minimum degree, in blocks"},
+    {"mda-w", order_mda_w, Level::block, "minimum degree, in rows (neighbours weighted by size)"},
+    {"meca", order_meca, Level::block, "minimum edge creation: fewest new block edges"},
+    {"meca-w", order_meca_w, Level::block, "minimum edge creation: fewest new scalar entries"},
+    {"amd", order_amd, Level::block, "SuiteSparse AMD on the block graph"},
+    {"amd-scalar", order_amd, Level::scalar, "SuiteSparse AMD on the scalar graph (may split blocks)"},
+    {"metis", order_metis, Level::block, "METIS_NodeND on the block graph, sizes as weights"},
+    {"metis-scalar", order_metis, Level::scalar, "METIS_NodeND on the scalar graph (may split blocks)"},
+}};
+
+std::string known_names() {
+  std::string s;
+  for (const OrderingInfo& o : kOrderings) s += (s.empty() ? "" : ", ") + std::string(o.name);
+  return s;
+}
+}  // namespace
+
+std::span<const OrderingInfo> orderings() { return kOrderings; }
+
+const OrderingInfo& find_ordering(std::string_view name) {
+  for (const OrderingInfo& o : kOrderings) {
+    if (o.name == name) return o;
+  }
+  throw InputError("unknown ordering '" + std::string(name) + "' (known: " + known_names() + ")");
+}
+
+std::vector<std::string> parse_ordering_list(std::string_view list) {
+  std::vector<std::string> names;
+  if (list == "all") {
+    for (const OrderingInfo& o : kOrderings) names.emplace_back(o.name);
+    return names;
+  }
+  while (!list.empty()) {
+    const size_t comma = list.find(',');
+    std::string_view name = list.substr(0, comma);
+    names.emplace_back(find_ordering(name).name);
+    list = comma == std::string_view::npos ? std::string_view() : list.substr(comma + 1);
+  }
+  if (names.empty()) throw InputError("empty ordering list (known: " + known_names() + ")");
+  return names;
+}
+
+std::vector<int> expand_pivots(const BlockPattern& pattern, std::span<const int> pivots) {
+  std::vector<int> perm;
+  perm.reserve(pattern.num_rows());
+  for (int b : pivots) {
+    const Block& blk = pattern.block(b);
+    for (int k = 0; k < blk.size; ++k) perm.push_back(blk.position + k);
+  }
+  return perm;
+}
+
+Ordering compute_ordering(const OrderingInfo& info, const BlockPattern& blocks, const SymmetricCsc& a) {
+  assert(blocks.num_rows() == a.n);
+  Ordering o;
+  o.name = info.name;
+  o.level = info.level;
+  const BlockPattern unit = info.level == Level::scalar ? BlockPattern::unit(a) : BlockPattern();
+  const BlockPattern& pattern = info.level == Level::scalar ? unit : blocks;
+  const auto start = std::chrono::steady_clock::now();
+  o.pivots = info.fn(pattern);
+  o.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  o.perm = expand_pivots(pattern, o.pivots);
+  o.elimination = eliminate(pattern, o.pivots);
+  return o;
+}
+
+}  // namespace ldlpgs

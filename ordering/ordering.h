@@ -1,0 +1,70 @@
+#pragma once
+// ordering/: elimination orderings on the block graph, and what they cost.
+//
+//   elimination_graph.h  the elimination game: EliminationGraph, eliminate() -> Elimination
+//   natural.cpp          natural      blocks in their given order
+//   mda.cpp              mda, mda-w   minimum degree (the talk's MDA), degree in blocks or rows
+//   meca.cpp             meca, meca-w minimum edge creation (the talk's MECA), edges or entries
+//   amd.cpp              amd          SuiteSparse AMD on the block graph
+//   metis.cpp            metis        METIS nested dissection, block sizes as vertex weights
+//   metrics.h            nnz(L) and flops as CHOLMOD counts them, block fill and block flops
+//
+// Every ordering has one signature, OrderingFn: a block graph in, a pivot sequence out. The
+// `-scalar` variants (amd-scalar, metis-scalar) run the same function on the scalar graph (one
+// block per row): they may split blocks, so they are references for fill and flops only.
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ordering/elimination_graph.h"
+#include "sparse/block_pattern.h"
+#include "sparse/csc.h"
+
+namespace ldlpgs {
+
+// pivots[k] = the block eliminated k-th (a permutation of 0 .. num_blocks-1).
+using OrderingFn = std::vector<int> (*)(const BlockPattern& pattern);
+
+std::vector<int> order_natural(const BlockPattern& pattern);
+std::vector<int> order_mda(const BlockPattern& pattern);
+std::vector<int> order_mda_w(const BlockPattern& pattern);
+std::vector<int> order_meca(const BlockPattern& pattern);
+std::vector<int> order_meca_w(const BlockPattern& pattern);
+std::vector<int> order_amd(const BlockPattern& pattern);
+std::vector<int> order_metis(const BlockPattern& pattern);
+
+enum class Level { block, scalar };
+
+struct OrderingInfo {
+  std::string_view name;
+  OrderingFn fn;
+  Level level;  // scalar: run on the scalar graph
+  std::string_view summary;
+};
+
+// All orderings, in the order reports list them.
+std::span<const OrderingInfo> orderings();
+// Throws InputError naming the unknown ordering and listing the known ones.
+const OrderingInfo& find_ordering(std::string_view name);
+// Splits "mda,meca,amd" (or "all") and checks every name.
+std::vector<std::string> parse_ordering_list(std::string_view list);
+
+// An ordering computed for a matrix: the same type for every ordering.
+struct Ordering {
+  std::string name;
+  Level level = Level::block;
+  std::vector<int> pivots;  // pivot sequence on the pattern it ran on: blocks for block
+                            // orderings, rows for scalar ones (size num_blocks or n)
+  std::vector<int> perm;    // scalar pivot order: perm[k] = row eliminated k-th (size n)
+  Elimination elimination;  // eliminated edges per pivot, on the pattern it ran on
+  double time_ms = 0;       // time of the ordering function alone
+};
+
+// Expands a block pivot sequence into the scalar pivot order (rows of each block in order).
+std::vector<int> expand_pivots(const BlockPattern& pattern, std::span<const int> pivots);
+
+// Runs the named ordering on the blocks (or, for a scalar ordering, on the rows) of `a`.
+Ordering compute_ordering(const OrderingInfo& info, const BlockPattern& blocks, const SymmetricCsc& a);
+
+}  // namespace ldlpgs

@@ -1,0 +1,87 @@
+#include "sparse/block_pattern.h"
+
+#include <cassert>
+#include <numeric>
+
+namespace ldlpgs {
+
+BlockPattern::BlockPattern(std::span<const int> block_sizes, Graph graph) : graph_(std::move(graph)) {
+  assert(static_cast<int>(block_sizes.size()) == graph_.n);
+  blocks_.reserve(block_sizes.size());
+  for (int size : block_sizes) {
+    assert(size > 0);
+    blocks_.push_back({size, num_rows_});
+    num_rows_ += size;
+  }
+}
+
+BlockPattern BlockPattern::from_scalar(const SymmetricCsc& a, std::span<const int> block_sizes) {
+  assert(std::accumulate(block_sizes.begin(), block_sizes.end(), 0) == a.n);
+  std::vector<int> block_of(a.n);
+  int b = 0, r = 0;
+  for (int size : block_sizes) {
+    for (int k = 0; k < size; ++k) block_of[r++] = b;
+    ++b;
+  }
+  std::vector<std::pair<int, int>> edges;
+  for (int j = 0; j < a.n; ++j) {
+    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) {
+      int bi = block_of[a.row_idx[p]], bj = block_of[j];
+      if (bi != bj) edges.emplace_back(bi, bj);
+    }
+  }
+  return BlockPattern(block_sizes, graph_from_edges(b, edges));
+}
+
+BlockPattern BlockPattern::unit(const SymmetricCsc& a) {
+  return BlockPattern(std::vector<int>(a.n, 1), graph_of(a));
+}
+
+std::vector<int> BlockPattern::block_sizes() const {
+  std::vector<int> sizes;
+  sizes.reserve(blocks_.size());
+  for (const Block& b : blocks_) sizes.push_back(b.size);
+  return sizes;
+}
+
+std::vector<int> BlockPattern::block_of_row() const {
+  std::vector<int> block_of(num_rows_);
+  for (int b = 0; b < num_blocks(); ++b) {
+    for (int k = 0; k < blocks_[b].size; ++k) block_of[blocks_[b].position + k] = b;
+  }
+  return block_of;
+}
+
+SymmetricCsc BlockPattern::expand() const {
+  // Lower triangle of the dense-block matrix, column by column: the rows of column c are the
+  // rows of its own block at or below c, then every row of each neighbouring block below.
+  SymmetricCsc a;
+  a.n = num_rows_;
+  a.col_ptr.assign(a.n + 1, 0);
+  std::vector<int> degree(a.n, 0);  // off-diagonal entries per row of the full matrix
+  for (int b = 0; b < num_blocks(); ++b) {
+    int nbr_rows = 0;
+    for (int nb : neighbors(b)) nbr_rows += blocks_[nb].size;
+    for (int k = 0; k < blocks_[b].size; ++k) degree[blocks_[b].position + k] = blocks_[b].size - 1 + nbr_rows;
+  }
+  for (int b = 0; b < num_blocks(); ++b) {
+    const Block& blk = blocks_[b];
+    for (int c = blk.position; c < blk.position + blk.size; ++c) {
+      for (int r = c; r < blk.position + blk.size; ++r) {
+        a.row_idx.push_back(r);
+        a.values.push_back(r == c ? 1.0 + degree[c] : -1.0);
+      }
+      for (int nb : neighbors(b)) {
+        if (nb < b) continue;
+        for (int k = 0; k < blocks_[nb].size; ++k) {
+          a.row_idx.push_back(blocks_[nb].position + k);
+          a.values.push_back(-1.0);
+        }
+      }
+      a.col_ptr[c + 1] = static_cast<int>(a.row_idx.size());
+    }
+  }
+  return a;
+}
+
+}  // namespace ldlpgs

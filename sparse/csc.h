@@ -1,0 +1,50 @@
+#pragma once
+// Scalar sparse storage: a symmetric matrix in compressed columns (lower triangle, as CHOLMOD's
+// stype = -1) and an undirected graph in compressed rows (the pattern the orderings work on).
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace ldlpgs {
+
+// Symmetric n x n matrix, lower triangle: column j holds rows i >= j, sorted, no duplicates.
+// A structurally missing diagonal entry is allowed (it is a zero).
+struct SymmetricCsc {
+  int n = 0;
+  std::vector<int> col_ptr;    // column pointers (size n+1)
+  std::vector<int> row_idx;    // row indices, ascending within a column (size col_ptr[n])
+  std::vector<double> values;  // values (size col_ptr[n])
+
+  int64_t nnz() const { return col_ptr.empty() ? 0 : col_ptr[n]; }
+};
+
+struct Triplet {
+  int row, col;
+  double value;
+};
+
+// Builds the lower triangle from entries of either triangle (an upper entry (i,j) is stored as
+// (j,i)). Duplicates are summed, as CHOLMOD's triplet conversion does. Asserts indices in range.
+SymmetricCsc csc_from_triplets(int n, std::span<const Triplet> entries);
+
+// Undirected graph, compressed rows: neighbours of v are adj[ptr[v] .. ptr[v+1]), ascending,
+// no self loops, each edge stored in both directions.
+struct Graph {
+  int n = 0;
+  std::vector<int> ptr;  // row pointers (size n+1)
+  std::vector<int> adj;  // neighbour lists (size ptr[n] = 2 * edges)
+
+  std::span<const int> neighbors(int v) const {
+    return {adj.data() + ptr[v], static_cast<size_t>(ptr[v + 1] - ptr[v])};
+  }
+  int degree(int v) const { return ptr[v + 1] - ptr[v]; }
+  int64_t num_edges() const { return ptr.empty() ? 0 : ptr[n] / 2; }
+};
+
+// Builds a graph from a list of edges (u, v), u != v; duplicates are merged.
+Graph graph_from_edges(int n, std::span<const std::pair<int, int>> edges);
+
+// The graph of a symmetric matrix: an edge for every off-diagonal entry (explicit zeros count).
+Graph graph_of(const SymmetricCsc& a);
+
+}  // namespace ldlpgs

@@ -1,0 +1,21 @@
+#pragma once
+// Matrix Market coordinate files (real, integer or pattern; symmetric or general).
+#include <string>
+
+#include "sparse/csc.h"
+
+namespace ldlpgs {
+
+// Reads a square symmetric matrix. A general file is accepted only if it is symmetric, values
+// included. Pattern files get the values CHOLMOD's reader gives them: off-diagonals -1, diagonal
+// 1 + the number of off-diagonal entries in its row, which makes them symmetric positive
+// definite. Unlike CHOLMOD 3.0 (SuiteSparse 5.12), which leaves a missing diagonal out, we add
+// it, so that every pattern matrix is positive definite (no test matrix lacks one). Throws InputError ("FILE:LINE: problem") on anything
+// else: missing file, bad header, array/complex format, truncated data, index out of range,
+// non-finite value, duplicate entry, non-square or unsymmetric matrix.
+SymmetricCsc read_matrix_market(const std::string& path);
+
+// Writes the lower triangle as "coordinate real symmetric", values to full precision.
+void write_matrix_market(const std::string& path, const SymmetricCsc& a);
+
+}  // namespace ldlpgs

@@ -1,0 +1,133 @@
+#include "sparse/partition.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string_view>
+
+#include "sparse/error.h"
+
+namespace ldlpgs {
+namespace {
+
+void check_max_size(int max_size) {
+  if (max_size < 1) {
+    throw InputError("maximum block size must be at least 1, got " + std::to_string(max_size));
+  }
+}
+
+std::string_view trim(std::string_view s) {
+  auto blank = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+  while (!s.empty() && blank(s.front())) s.remove_prefix(1);
+  while (!s.empty() && blank(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+// Rows r and r+1 are merged when (column set of row r) + {r} == (column set of row r+1) + {r+1}.
+// For that, each must contain the other (they are adjacent) and all other neighbours must match,
+// so comparing N(r) \ {r+1} with N(r+1) \ {r} is enough.
+bool same_pattern(const Graph& g, int r) {
+  const auto a = g.neighbors(r);
+  const auto b = g.neighbors(r + 1);
+  if (!std::binary_search(a.begin(), a.end(), r + 1)) return false;
+  if (a.size() != b.size()) return false;
+  size_t i = 0, k = 0;
+  while (i < a.size() || k < b.size()) {
+    if (i < a.size() && a[i] == r + 1) {
+      ++i;
+    } else if (k < b.size() && b[k] == r) {
+      ++k;
+    } else if (i < a.size() && k < b.size() && a[i] == b[k]) {
+      ++i;
+      ++k;
+    } else {
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<int> partition_uniform(int n, int size) {
+  if (size < 1) throw InputError("block size must be positive, got " + std::to_string(size));
+  std::vector<int> blocks(n / size, size);
+  if (n % size != 0) blocks.push_back(n % size);
+  return blocks;
+}
+
+std::vector<int> partition_auto(const SymmetricCsc& a, int max_size) {
+  check_max_size(max_size);
+  const Graph g = graph_of(a);
+  std::vector<int> blocks;
+  int start = 0;  // first row of the current run of identical rows
+  for (int r = 0; r < a.n; ++r) {
+    if (r + 1 < a.n && same_pattern(g, r)) continue;
+    // Rows start..r form a maximal run: cut it into full blocks and the remainder.
+    const int length = r + 1 - start;
+    blocks.insert(blocks.end(), length / max_size, max_size);
+    if (length % max_size != 0) blocks.push_back(length % max_size);
+    start = r + 1;
+  }
+  return blocks;
+}
+
+std::vector<int> read_partition(const std::string& path, int n) {
+  std::ifstream in(path);
+  // A directory opens as an empty stream: it would be reported as blocks summing to 0.
+  std::error_code ec;
+  if (!in || std::filesystem::is_directory(path, ec)) {
+    throw InputError(path + ": cannot open file");
+  }
+  std::vector<int> blocks;
+  int64_t sum = 0;
+  std::string text;
+  for (int64_t line = 1; std::getline(in, text); ++line) {
+    const std::string_view s = trim(text);
+    if (s.empty() || s.front() == '#' || s.front() == '%') continue;
+    int size = 0;
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), size);
+    const std::string where = path + ":" + std::to_string(line) + ": ";
+    if (ec != std::errc() || end != s.data() + s.size()) {
+      throw InputError(where + "expected a positive integer block size, got '" + std::string(s) +
+                       "'");
+    }
+    if (size < 1) {
+      throw InputError(where + "block size must be positive, got " + std::to_string(size));
+    }
+    blocks.push_back(size);
+    sum += size;
+  }
+  if (in.bad()) throw InputError(path + ": cannot read file");
+  if (sum != n) {
+    throw InputError(path + ": block sizes sum to " + std::to_string(sum) + ", the matrix has " +
+                     std::to_string(n) + " rows");
+  }
+  return blocks;
+}
+
+std::vector<int> parse_partition(const std::string& spec, const SymmetricCsc& a, int max_size) {
+  check_max_size(max_size);
+  if (spec == "auto") return partition_auto(a, max_size);
+  // An optional sign then digits is meant as a block size, never as a file name: "-3" or "0"
+  // deserve "must be positive" rather than "cannot open file".
+  const std::string_view digits = std::string_view(spec).substr(
+      !spec.empty() && (spec[0] == '-' || spec[0] == '+') ? 1 : 0);
+  const bool numeric = !digits.empty() && std::all_of(digits.begin(), digits.end(), [](char c) {
+    return std::isdigit(static_cast<unsigned char>(c)) != 0;
+  });
+  if (numeric) {
+    int size = 0;
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), size);
+    if (spec[0] == '-' || ec != std::errc() || end != digits.data() + digits.size() || size < 1) {
+      throw InputError("--blocks " + spec + ": block size must be a positive integer");
+    }
+    return partition_uniform(a.n, size);
+  }
+  return read_partition(spec, a.n);
+}
+
+}  // namespace ldlpgs

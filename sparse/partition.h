@@ -1,0 +1,25 @@
+#pragma once
+// Block partitions of the rows: which consecutive rows form one block.
+#include <string>
+#include <vector>
+
+#include "sparse/csc.h"
+
+namespace ldlpgs {
+
+// Blocks of `size` rows; the last block takes the remainder when size does not divide n.
+std::vector<int> partition_uniform(int n, int size);
+
+// Groups consecutive rows whose sparsity patterns (diagonal included) are identical, as
+// supernodal codes detect identical columns; a block never exceeds max_size rows.
+std::vector<int> partition_auto(const SymmetricCsc& a, int max_size = 6);
+
+// Reads a partition file: one positive block size per line, in row order, summing to n.
+// Blank lines and lines starting with '#' or '%' are skipped. Throws InputError naming the
+// file and line.
+std::vector<int> read_partition(const std::string& path, int n);
+
+// The command line's --blocks: "auto", a positive integer (uniform), or a partition file.
+std::vector<int> parse_partition(const std::string& spec, const SymmetricCsc& a, int max_size = 6);
+
+}  // namespace ldlpgs

@@ -1,0 +1,457 @@
+// read_matrix_market against CHOLMOD's own reader on the collection's matrices, one named test
+// per kind of bad input (each checking that the message names the file and line), and write/read
+// round trips.
+#include "sparse/matrix_market.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sparse/cholmod_adapter.h"
+#include "sparse/error.h"
+#include "tests/temp_files.h"
+
+namespace ldlpgs {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kMatrices = LDLPGS_MATRICES;
+
+using testing::temp_file;
+
+// The message read_matrix_market throws for path (a test failure if it does not throw).
+std::string error_of(const std::string& path) {
+  try {
+    read_matrix_market(path);
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "message is not one line: " << message;
+    return message;
+  }
+  ADD_FAILURE() << path << " was accepted";
+  return {};
+}
+
+// Checks that reading content fails with "PATH:LINE: ..." containing every one of words.
+void expect_error(const std::string& content, int line, const std::vector<std::string>& words) {
+  const std::string path = temp_file("bad.mtx", content);
+  const std::string message = error_of(path);
+  const std::string prefix = path + ":" + std::to_string(line) + ": ";
+  EXPECT_EQ(message.substr(0, prefix.size()), prefix) << message;
+  for (const std::string& w : words) {
+    EXPECT_NE(message.find(w), std::string::npos) << "'" << w << "' not in: " << message;
+  }
+}
+
+SymmetricCsc read_text(const std::string& content) {
+  return read_matrix_market(temp_file("good.mtx", content));
+}
+
+// The lower triangle as a map (row, col) -> value, 0-based, for readable comparisons.
+std::map<std::pair<int, int>, double> entries(const SymmetricCsc& a) {
+  std::map<std::pair<int, int>, double> m;
+  for (int j = 0; j < a.n; ++j) {
+    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) m[{a.row_idx[p], j}] = a.values[p];
+  }
+  return m;
+}
+
+// Structural validity of a SymmetricCsc: the invariants csc.h promises.
+void expect_valid(const SymmetricCsc& a) {
+  ASSERT_EQ(static_cast<int>(a.col_ptr.size()), a.n + 1);
+  ASSERT_EQ(a.col_ptr[0], 0);
+  ASSERT_EQ(a.row_idx.size(), static_cast<size_t>(a.nnz()));
+  ASSERT_EQ(a.values.size(), static_cast<size_t>(a.nnz()));
+  for (int j = 0; j < a.n; ++j) {
+    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) {
+      ASSERT_GE(a.row_idx[p], j);
+      ASSERT_LT(a.row_idx[p], a.n);
+      if (p > a.col_ptr[j]) {
+        ASSERT_LT(a.row_idx[p - 1], a.row_idx[p]);
+      }
+    }
+  }
+}
+
+void expect_same(const SymmetricCsc& a, const SymmetricCsc& b, double rel_tol) {
+  ASSERT_EQ(a.n, b.n);
+  ASSERT_EQ(a.col_ptr, b.col_ptr);
+  ASSERT_EQ(a.row_idx, b.row_idx);
+  for (size_t p = 0; p < a.values.size(); ++p) {
+    if (a.values[p] == b.values[p]) continue;
+    EXPECT_LE(std::abs(a.values[p] - b.values[p]), rel_tol * std::abs(b.values[p]))
+        << "entry " << p << ": " << a.values[p] << " vs " << b.values[p];
+  }
+}
+
+bool is_pattern_file(const std::string& path) {
+  std::ifstream in(path);
+  std::string banner;
+  std::getline(in, banner);
+  return banner.find("pattern") != std::string::npos;
+}
+
+// --- the collection's matrices --------------------------------------------------------------
+
+TEST(MatrixMarket, MatchesCholmodOnEveryTestMatrix) {
+  Cholmod cm;
+  int compared = 0, patterns = 0;
+  for (const auto& file : fs::directory_iterator(kMatrices)) {
+    const std::string path = file.path().string();
+    if (file.path().extension() != ".mtx" || file.path().filename() == "Pd.mtx") continue;
+    SCOPED_TRACE(path);
+    const SymmetricCsc ours = read_matrix_market(path);
+    const SymmetricCsc theirs = cholmod_read(path, cm);
+    expect_valid(ours);
+    expect_same(ours, theirs, 1e-15);
+    ++compared;
+    if (is_pattern_file(path)) {
+      ++patterns;
+      // The values of a pattern matrix are made up: check them against the rule directly too,
+      // so that this test does not rest on CHOLMOD alone.
+      std::vector<int> degree(ours.n, 0);
+      for (const auto& [ij, v] : entries(ours)) {
+        if (ij.first == ij.second) continue;
+        EXPECT_EQ(v, -1.0);
+        ++degree[ij.first];
+        ++degree[ij.second];
+      }
+      const auto m = entries(ours);
+      for (int r = 0; r < ours.n; ++r) EXPECT_EQ(m.at({r, r}), 1.0 + degree[r]) << "row " << r;
+    }
+  }
+  EXPECT_GE(compared, 11);
+  EXPECT_GE(patterns, 5);
+}
+
+TEST(MatrixMarket, GeneralFileWithSymmetricValuesIsAccepted) {
+  // pts5ldd03: 161 rows, 745 entries of which 161 diagonal: 292 pairs, each stored twice.
+  const SymmetricCsc a = read_matrix_market(kMatrices + "/pts5ldd03.mtx");
+  EXPECT_EQ(a.n, 161);
+  EXPECT_EQ(a.nnz(), 161 + 292);
+  EXPECT_EQ(entries(a).at({0, 0}), 256.0);
+}
+
+TEST(MatrixMarket, Bcsstk01KnownEntries) {
+  // Independent of CHOLMOD: numbers copied from the file by eye.
+  const SymmetricCsc a = read_matrix_market(kMatrices + "/bcsstk01.mtx");
+  EXPECT_EQ(a.n, 48);
+  EXPECT_EQ(a.nnz(), 224);
+  EXPECT_EQ(entries(a).at({0, 0}), 2832268.51852);
+}
+
+TEST(MatrixMarket, UnsymmetricPdIsRefused) {
+  const std::string path = kMatrices + "/Pd.mtx";
+  const std::string message = error_of(path);
+  EXPECT_NE(message.find("Pd.mtx"), std::string::npos) << message;
+  EXPECT_NE(message.find("not symmetric"), std::string::npos) << message;
+  // Found by a separate script: line 70 holds "61 55 -.9999999999999999" and the file has no
+  // (55,61); it is the first entry in file order without an equal partner.
+  EXPECT_EQ(message, path + ":70: matrix is not symmetric: entry (61,55) = -0.9999999999999999 "
+                            "has no symmetric partner (55,61)");
+}
+
+// --- well-formed variations -------------------------------------------------------------------
+
+TEST(MatrixMarket, BannerIsCaseInsensitiveAndCommentsAndBlankLinesAreSkipped) {
+  const SymmetricCsc a = read_text(
+      "%%matrixmarket MATRIX Coordinate REAL Symmetric\n"
+      "% a comment\n"
+      "\n"
+      "   \n"
+      "%another\n"
+      "2 2 3\n"
+      "1 1 4\n"
+      "2 1 -1.5e0\n"
+      "\n"
+      "2 2 +5\n");
+  const std::map<std::pair<int, int>, double> expected{{{0, 0}, 4}, {{1, 0}, -1.5}, {{1, 1}, 5}};
+  EXPECT_EQ(entries(a), expected);
+}
+
+TEST(MatrixMarket, WindowsLineEndings) {
+  const SymmetricCsc a =
+      read_text("%%MatrixMarket matrix coordinate real symmetric\r\n2 2 2\r\n1 1 1\r\n2 2 2\r\n");
+  const std::map<std::pair<int, int>, double> expected{{{0, 0}, 1}, {{1, 1}, 2}};
+  EXPECT_EQ(entries(a), expected);
+}
+
+TEST(MatrixMarket, UpperEntryInSymmetricFileIsStoredTransposed) {
+  const SymmetricCsc a = read_text(
+      "%%MatrixMarket matrix coordinate real symmetric\n3 3 4\n1 1 2\n1 3 7\n2 2 3\n3 3 4\n");
+  const std::map<std::pair<int, int>, double> expected{
+      {{0, 0}, 2}, {{2, 0}, 7}, {{1, 1}, 3}, {{2, 2}, 4}};
+  EXPECT_EQ(entries(a), expected);
+  expect_valid(a);
+}
+
+TEST(MatrixMarket, IntegerFieldIsReadAsReal) {
+  const SymmetricCsc a = read_text(
+      "%%MatrixMarket matrix coordinate integer symmetric\n2 2 3\n1 1 3\n2 1 -2\n2 2 9\n");
+  const std::map<std::pair<int, int>, double> expected{{{0, 0}, 3}, {{1, 0}, -2}, {{1, 1}, 9}};
+  EXPECT_EQ(entries(a), expected);
+}
+
+TEST(MatrixMarket, ExactValuesSurvive) {
+  // Values that differ only in the last bit, and a tiny one that underflows to a denormal.
+  const SymmetricCsc a = read_text(
+      "%%MatrixMarket matrix coordinate real symmetric\n3 3 3\n1 1 0.1\n2 2 "
+      "0.10000000000000002\n3 3 4.9406564584124654e-324\n");
+  const auto m = entries(a);
+  EXPECT_EQ(m.at({0, 0}), 0.1);
+  EXPECT_EQ(m.at({1, 1}), 0.10000000000000002);
+  EXPECT_NE(m.at({0, 0}), m.at({1, 1}));
+  EXPECT_EQ(m.at({2, 2}), 4.9406564584124654e-324);
+}
+
+TEST(MatrixMarket, PatternValuesAndMissingDiagonalAdded) {
+  // Full pattern: edges 1-2, 1-3, 2-3, 3-4, diagonal given for rows 1 and 3 only. Degrees
+  // 2, 2, 3, 1; the header (and the README) promise 1 + degree on every diagonal.
+  const SymmetricCsc a = read_text(
+      "%%MatrixMarket matrix coordinate pattern symmetric\n4 4 6\n1 1\n2 1\n3 1\n3 2\n3 3\n"
+      "4 3\n");
+  const std::map<std::pair<int, int>, double> expected{
+      {{0, 0}, 3},  {{1, 0}, -1}, {{2, 0}, -1}, {{1, 1}, 3},
+      {{2, 1}, -1}, {{2, 2}, 4},  {{3, 2}, -1}, {{3, 3}, 2}};
+  EXPECT_EQ(entries(a), expected);
+}
+
+TEST(MatrixMarket, PatternMissingDiagonalIsWhereCholmodDiffers) {
+  // CHOLMOD (SuiteSparse 5.12) gives a file's diagonal entries 1 + degree but adds none that
+  // are missing; we add them (the header's promise). Everything CHOLMOD has, we have equal.
+  const std::string path = temp_file(
+      "p.mtx", "%%MatrixMarket matrix coordinate pattern symmetric\n3 3 3\n1 1\n2 1\n3 2\n");
+  Cholmod cm;
+  const auto ours = entries(read_matrix_market(path));
+  const auto theirs = entries(cholmod_read(path, cm));
+  for (const auto& [ij, v] : theirs) EXPECT_EQ(ours.at(ij), v);
+  const std::map<std::pair<int, int>, double> expected{
+      {{0, 0}, 2}, {{1, 0}, -1}, {{1, 1}, 3}, {{2, 1}, -1}, {{2, 2}, 2}};
+  EXPECT_EQ(ours, expected);
+}
+
+TEST(MatrixMarket, GeneralPatternFileWithSymmetricPattern) {
+  const SymmetricCsc a = read_text(
+      "%%MatrixMarket matrix coordinate pattern general\n3 3 4\n2 1\n1 2\n3 2\n2 3\n");
+  const std::map<std::pair<int, int>, double> expected{
+      {{0, 0}, 2}, {{1, 0}, -1}, {{1, 1}, 3}, {{2, 1}, -1}, {{2, 2}, 2}};
+  EXPECT_EQ(entries(a), expected);
+}
+
+TEST(MatrixMarket, EmptyMatrix) {
+  const SymmetricCsc a = read_text("%%MatrixMarket matrix coordinate real symmetric\n3 3 0\n");
+  EXPECT_EQ(a.n, 3);
+  EXPECT_EQ(a.nnz(), 0);
+}
+
+TEST(MatrixMarket, LargeBandedFileReads) {
+  // 100k rows with a tridiagonal pattern: ~200k entries, to show size is not a problem.
+  const int n = 100000;
+  std::string text = "%%MatrixMarket matrix coordinate real symmetric\n" + std::to_string(n) +
+                     " " + std::to_string(n) + " " + std::to_string(2 * n - 1) + "\n";
+  for (int i = 1; i <= n; ++i) {
+    text += std::to_string(i) + " " + std::to_string(i) + " 4\n";
+    if (i > 1) text += std::to_string(i) + " " + std::to_string(i - 1) + " -1\n";
+  }
+  const SymmetricCsc a = read_text(text);
+  EXPECT_EQ(a.n, n);
+  EXPECT_EQ(a.nnz(), 2 * n - 1);
+  EXPECT_EQ(a.values[a.col_ptr[n - 2] + 1], -1.0);
+}
+
+// --- bad input: one test per kind ------------------------------------------------------------
+
+const std::string kBanner = "%%MatrixMarket matrix coordinate real symmetric\n";
+
+TEST(MatrixMarketError, MissingFile) {
+  const std::string path = ::testing::TempDir() + "ldlpgs_no_such_file.mtx";
+  EXPECT_EQ(error_of(path), path + ": cannot open file");
+}
+
+TEST(MatrixMarketError, Directory) {
+  const std::string path = ::testing::TempDir();
+  EXPECT_NE(error_of(path).find(path + ": cannot"), std::string::npos);
+}
+
+TEST(MatrixMarketError, EmptyFile) {
+  const std::string path = temp_file("empty.mtx", "");
+  EXPECT_EQ(error_of(path), path + ": file is empty");
+}
+
+TEST(MatrixMarketError, MissingBanner) {
+  expect_error("3 3 1\n1 1 1\n", 1, {"%%MatrixMarket"});
+}
+
+TEST(MatrixMarketError, BadBanner) {
+  expect_error("%%MatrixMarket matrix coordinate real\n3 3 1\n1 1 1\n", 1, {"banner"});
+  expect_error("%%MatrixMarket matrix coordinate real symetric\n3 3 1\n1 1 1\n", 1,
+               {"symetric"});
+  expect_error("%%MatrixMarket vector coordinate real general\n3 3 1\n1 1 1\n", 1, {"vector"});
+  expect_error("%%MatrixMarket matrix coordinate double general\n3 3 1\n1 1 1\n", 1, {"double"});
+}
+
+TEST(MatrixMarketError, ArrayFormat) {
+  expect_error("%%MatrixMarket matrix array real symmetric\n2 2\n1\n2\n3\n", 1,
+               {"array", "coordinate"});
+}
+
+TEST(MatrixMarketError, Complex) {
+  expect_error("%%MatrixMarket matrix coordinate complex symmetric\n1 1 1\n1 1 1 0\n", 1,
+               {"complex"});
+}
+
+TEST(MatrixMarketError, HermitianAndSkewSymmetric) {
+  expect_error("%%MatrixMarket matrix coordinate real hermitian\n1 1 1\n1 1 1\n", 1,
+               {"hermitian"});
+  expect_error("%%MatrixMarket matrix coordinate real skew-symmetric\n2 2 1\n2 1 1\n", 1,
+               {"skew-symmetric"});
+}
+
+TEST(MatrixMarketError, MissingSizeLine) {
+  expect_error(kBanner + "% only comments\n", 2, {"size line"});
+}
+
+TEST(MatrixMarketError, BadSizeLine) {
+  expect_error(kBanner + "% c\n3 3\n1 1 1\n", 3, {"size line"});
+  expect_error(kBanner + "3 x 1\n1 1 1\n", 2, {"size line"});
+  expect_error(kBanner + "3 3 -1\n", 2, {"size line"});
+}
+
+TEST(MatrixMarketError, NonSquare) {
+  expect_error(kBanner + "% c\n3 4 1\n1 1 1\n", 3, {"3 x 4", "not square"});
+}
+
+TEST(MatrixMarketError, MoreEntriesDeclaredThanPositions) {
+  expect_error(kBanner + "2 2 4\n1 1 1\n2 1 1\n2 2 1\n1 2 1\n", 2, {"4 entries", "3 positions"});
+}
+
+TEST(MatrixMarketError, RowIndexOutOfRange) {
+  expect_error(kBanner + "3 3 2\n1 1 1\n4 1 1\n", 4, {"row index 4 out of range 1..3"});
+}
+
+TEST(MatrixMarketError, ColumnIndexZero) {
+  expect_error(kBanner + "3 3 2\n1 1 1\n2 0 1\n", 4, {"column index 0 out of range 1..3"});
+}
+
+TEST(MatrixMarketError, HugeIndex) {
+  expect_error(kBanner + "3 3 1\n99999999999999999999999 1 1\n", 3, {"row index", "1..3"});
+}
+
+TEST(MatrixMarketError, MalformedLineTooFewFields) {
+  expect_error(kBanner + "3 3 2\n1 1 1\n2 1\n", 4, {"malformed", "2 fields"});
+}
+
+TEST(MatrixMarketError, MalformedLineTooManyFields) {
+  expect_error(kBanner + "3 3 2\n1 1 1\n2 1 3 4\n", 4, {"malformed", "4 fields"});
+}
+
+TEST(MatrixMarketError, MalformedLineNonNumeric) {
+  expect_error(kBanner + "3 3 2\n1 1 1\n2 1 abc\n", 4, {"malformed", "'abc'"});
+  expect_error(kBanner + "3 3 2\n1 1 1\n2 1.5 1\n", 4, {"malformed", "column index"});
+  expect_error(kBanner + "3 3 2\n1 1 1\n2 1 1.5x\n", 4, {"malformed", "'1.5x'"});
+}
+
+TEST(MatrixMarketError, NanValue) {
+  expect_error(kBanner + "3 3 2\n1 1 1\n2 1 nan\n", 4, {"(2,1)", "non-finite", "nan"});
+}
+
+TEST(MatrixMarketError, InfValue) {
+  expect_error(kBanner + "3 3 2\n1 1 -inf\n2 1 1\n", 3, {"(1,1)", "non-finite"});
+  expect_error(kBanner + "3 3 2\n1 1 1e400\n2 1 1\n", 3, {"(1,1)", "non-finite", "1e400"});
+}
+
+TEST(MatrixMarketError, DuplicateEntry) {
+  expect_error(kBanner + "3 3 3\n2 1 1\n3 3 1\n2 1 1\n", 5,
+               {"duplicate entry (2,1)", "line 3"});
+}
+
+TEST(MatrixMarketError, DuplicateSymmetricPair) {
+  expect_error(kBanner + "3 3 3\n3 1 1\n2 2 1\n1 3 1\n", 5, {"(1,3)", "(3,1)", "line 3"});
+}
+
+TEST(MatrixMarketError, DuplicateInGeneralFile) {
+  expect_error("%%MatrixMarket matrix coordinate real general\n2 2 3\n1 2 1\n2 1 1\n1 2 1\n", 5,
+               {"duplicate entry (1,2)", "line 3"});
+}
+
+TEST(MatrixMarketError, TruncatedFile) {
+  expect_error(kBanner + "3 3 3\n1 1 1\n2 2 1\n", 4, {"truncated", "3 entries", "has 2"});
+}
+
+TEST(MatrixMarketError, TooManyEntries) {
+  expect_error(kBanner + "3 3 2\n1 1 1\n2 2 1\n3 3 1\n", 5, {"more entries", "2"});
+}
+
+TEST(MatrixMarketError, UnsymmetricGeneralPattern) {
+  expect_error("%%MatrixMarket matrix coordinate real general\n3 3 4\n1 1 1\n2 1 5\n3 2 1.5\n"
+               "1 2 5\n",
+               5, {"not symmetric", "(3,2) = 1.5", "no symmetric partner (2,3)"});
+}
+
+TEST(MatrixMarketError, UnsymmetricGeneralPatternFile) {
+  expect_error("%%MatrixMarket matrix coordinate pattern general\n3 3 3\n1 1\n2 1\n1 3\n", 4,
+               {"not symmetric", "(2,1)", "no symmetric partner (1,2)"});
+}
+
+TEST(MatrixMarketError, UnsymmetricGeneralValues) {
+  expect_error("%%MatrixMarket matrix coordinate real general\n3 3 3\n1 1 1\n2 1 1.5\n1 2 2\n",
+               4, {"not symmetric", "(2,1) = 1.5", "(1,2) = 2", "line 5"});
+}
+
+TEST(MatrixMarketError, UnsymmetricGeneralValuesInLastBit) {
+  expect_error("%%MatrixMarket matrix coordinate real general\n2 2 2\n1 2 0.1\n"
+               "2 1 0.10000000000000002\n",
+               3, {"not symmetric", "(1,2) = 0.1", "(2,1) = 0.10000000000000002"});
+}
+
+// --- writing ------------------------------------------------------------------------------------
+
+void expect_round_trip(const std::string& name) {
+  SCOPED_TRACE(name);
+  const SymmetricCsc a = read_matrix_market(kMatrices + "/" + name);
+  const std::string path = temp_file("rt_" + name, "");
+  write_matrix_market(path, a);
+  const SymmetricCsc b = read_matrix_market(path);
+  expect_same(b, a, 0.0);
+  EXPECT_EQ(a.values, b.values);  // bit for bit, not just to a tolerance
+  std::ifstream in(path);
+  std::string banner;
+  std::getline(in, banner);
+  EXPECT_EQ(banner, "%%MatrixMarket matrix coordinate real symmetric");
+}
+
+TEST(MatrixMarketWrite, RoundTripBcsstk01) { expect_round_trip("bcsstk01.mtx"); }
+TEST(MatrixMarketWrite, RoundTripPatternMatrix) { expect_round_trip("can___24.mtx"); }
+TEST(MatrixMarketWrite, RoundTripGeneralFile) { expect_round_trip("pts5ldd03.mtx"); }
+
+TEST(MatrixMarketWrite, RoundTripAwkwardValues) {
+  const SymmetricCsc a = read_text(
+      "%%MatrixMarket matrix coordinate real symmetric\n3 3 4\n1 1 0.1\n2 1 -1e-300\n"
+      "2 2 1.7976931348623157e308\n3 3 0\n");
+  const std::string path = temp_file("rt.mtx", "");
+  write_matrix_market(path, a);
+  const SymmetricCsc b = read_matrix_market(path);
+  EXPECT_EQ(entries(a), entries(b));
+}
+
+TEST(MatrixMarketWrite, CannotWrite) {
+  const std::string path = ::testing::TempDir() + "ldlpgs_no_such_dir/out.mtx";
+  const SymmetricCsc a = read_matrix_market(kMatrices + "/LFAT5.mtx");
+  try {
+    write_matrix_market(path, a);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": cannot write file");
+  }
+}
+
+}  // namespace
+}  // namespace ldlpgs

@@ -1,0 +1,282 @@
+// Partitions: uniform sizes, automatic grouping of identical rows (checked on a hand-built matrix
+// and against a brute-force definition on every test matrix), partition files and --blocks.
+#include "sparse/partition.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <numeric>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sparse/error.h"
+#include "tests/temp_files.h"
+#include "sparse/matrix_market.h"
+
+namespace ldlpgs {
+namespace {
+
+namespace fs = std::filesystem;
+using Sizes = std::vector<int>;
+
+std::string temp_file(const std::string& content) { return testing::temp_file("partition.txt", content); }
+
+// The message of the InputError f throws (a test failure if it throws none).
+template <typename F>
+std::string error_of(F f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no InputError";
+  return {};
+}
+
+// A symmetric matrix with the given off-diagonal edges (0-based, either order) and diagonal
+// entries on the rows listed (a missing diagonal must not change anything).
+SymmetricCsc matrix(int n, const std::vector<std::pair<int, int>>& edges,
+                    const std::vector<int>& diagonal) {
+  std::vector<Triplet> t;
+  for (auto [i, j] : edges) t.push_back({i, j, -1.0});
+  for (int r : diagonal) t.push_back({r, r, 10.0});
+  return csc_from_triplets(n, t);
+}
+
+std::vector<int> all_rows(int n) {
+  std::vector<int> r(n);
+  std::iota(r.begin(), r.end(), 0);
+  return r;
+}
+
+// --- partition_uniform ---------------------------------------------------------------------
+
+TEST(PartitionUniform, Divides) { EXPECT_EQ(partition_uniform(9, 3), (Sizes{3, 3, 3})); }
+
+TEST(PartitionUniform, Remainder) {
+  EXPECT_EQ(partition_uniform(10, 3), (Sizes{3, 3, 3, 1}));
+  EXPECT_EQ(partition_uniform(48, 7), (Sizes{7, 7, 7, 7, 7, 7, 6}));
+}
+
+TEST(PartitionUniform, BlockLargerThanMatrix) { EXPECT_EQ(partition_uniform(2, 5), (Sizes{2})); }
+
+TEST(PartitionUniform, EmptyMatrix) { EXPECT_EQ(partition_uniform(0, 3), Sizes{}); }
+
+TEST(PartitionUniform, SizeZeroIsAnError) {
+  EXPECT_THROW(partition_uniform(10, 0), InputError);
+  EXPECT_THROW(partition_uniform(10, -1), InputError);
+}
+
+// --- partition_auto on a matrix small enough to reason about ---------------------------------
+
+// Rows 0,1,2: a clique, each also coupled to 5 -> row sets {0,1,2,5}.
+// Rows 3,4: coupled to each other only -> {3,4}; row 3 has no stored diagonal.
+// Row 5: {0,1,2,5}, the same set as rows 0-2 but not next to them, so alone.
+// Rows 6..9: a clique of 4 -> {6,7,8,9}.
+SymmetricCsc hand_built() {
+  return matrix(10,
+                {{1, 0}, {2, 0}, {2, 1}, {5, 0}, {5, 1}, {5, 2}, {4, 3}, {7, 6}, {8, 6}, {9, 6},
+                 {8, 7}, {9, 7}, {9, 8}},
+                {0, 1, 2, 4, 5, 6, 7, 8, 9});
+}
+
+TEST(PartitionAuto, HandBuilt) { EXPECT_EQ(partition_auto(hand_built()), (Sizes{3, 2, 1, 4})); }
+
+TEST(PartitionAuto, HandBuiltRunsSplitAtMaxSize) {
+  EXPECT_EQ(partition_auto(hand_built(), 3), (Sizes{3, 2, 1, 3, 1}));
+  EXPECT_EQ(partition_auto(hand_built(), 2), (Sizes{2, 1, 2, 1, 2, 2}));
+  EXPECT_EQ(partition_auto(hand_built(), 1), Sizes(10, 1));
+}
+
+TEST(PartitionAuto, SameNeighboursButNotCoupledAreNotMerged) {
+  // Rows 0 and 1 both touch only row 2, but row 0's set {0,2} differs from row 1's {1,2}.
+  EXPECT_EQ(partition_auto(matrix(3, {{2, 0}, {2, 1}}, all_rows(3))), (Sizes{1, 1, 1}));
+}
+
+TEST(PartitionAuto, DiagonalMatrixIsAllSingletons) {
+  EXPECT_EQ(partition_auto(matrix(4, {}, all_rows(4))), (Sizes{1, 1, 1, 1}));
+  EXPECT_EQ(partition_auto(matrix(4, {}, {})), (Sizes{1, 1, 1, 1}));
+}
+
+TEST(PartitionAuto, DenseMatrixIsCutIntoMaxSize) {
+  std::vector<std::pair<int, int>> edges;
+  for (int i = 0; i < 14; ++i) {
+    for (int j = 0; j < i; ++j) edges.emplace_back(i, j);
+  }
+  EXPECT_EQ(partition_auto(matrix(14, edges, {})), (Sizes{6, 6, 2}));
+  EXPECT_EQ(partition_auto(matrix(14, edges, {}), 14), (Sizes{14}));
+}
+
+TEST(PartitionAuto, MaxSizeBelowOneIsAnError) {
+  EXPECT_THROW(partition_auto(hand_built(), 0), InputError);
+  EXPECT_THROW(partition_auto(hand_built(), -3), InputError);
+}
+
+// --- partition_auto against a brute-force definition on every test matrix -------------------
+
+// Row r's column set in the full symmetric pattern, diagonal included, built straight from the
+// stored lower triangle (no library helper in between).
+std::vector<std::set<int>> row_sets(const SymmetricCsc& a) {
+  std::vector<std::set<int>> s(a.n);
+  for (int j = 0; j < a.n; ++j) {
+    s[j].insert(j);
+    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) {
+      s[a.row_idx[p]].insert(j);
+      s[j].insert(a.row_idx[p]);
+    }
+  }
+  return s;
+}
+
+// The definition: blocks cover the rows in order, every block holds rows with identical sets
+// and at most max_size of them, and two neighbouring blocks are cut apart only where the rows
+// differ or where the first block is full (so each run is cut max_size, max_size, ..., rest).
+// Returns the first violation, empty if none.
+std::string auto_partition_violation(const std::vector<std::set<int>>& sets, const Sizes& blocks,
+                                     int max_size) {
+  const int n = static_cast<int>(sets.size());
+  const int sum = std::accumulate(blocks.begin(), blocks.end(), 0);
+  if (sum != n) return "sizes sum to " + std::to_string(sum) + ", not " + std::to_string(n);
+  int start = 0;
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    const std::string block = "block " + std::to_string(b) + " (rows " + std::to_string(start) +
+                              ".." + std::to_string(start + blocks[b] - 1) + ")";
+    if (blocks[b] < 1 || blocks[b] > max_size) return block + ": size out of 1..max_size";
+    for (int r = start + 1; r < start + blocks[b]; ++r) {
+      if (sets[r - 1] != sets[r]) return block + ": rows " + std::to_string(r - 1) + " and " +
+                                         std::to_string(r) + " differ";
+    }
+    const int next = start + blocks[b];
+    if (next < n && sets[next - 1] == sets[next] && blocks[b] != max_size) {
+      return block + ": could take row " + std::to_string(next);
+    }
+    start = next;
+  }
+  return {};
+}
+
+TEST(PartitionAuto, MatchesBruteForceOnEveryTestMatrix) {
+  int checked = 0;
+  for (const auto& file : fs::directory_iterator(LDLPGS_MATRICES)) {
+    if (file.path().extension() != ".mtx" || file.path().filename() == "Pd.mtx") continue;
+    const SymmetricCsc a = read_matrix_market(file.path().string());
+    const auto sets = row_sets(a);
+    for (int max_size : {1, 2, 3, 6, 7, 1000}) {
+      EXPECT_EQ(auto_partition_violation(sets, partition_auto(a, max_size), max_size), "")
+          << file.path().filename() << ", max_size " << max_size;
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 11);
+}
+
+TEST(PartitionAuto, BruteForceCheckCanFail) {
+  // The checker must reject wrong answers, or the test above proves nothing.
+  const auto sets = row_sets(hand_built());
+  EXPECT_EQ(auto_partition_violation(sets, {3, 2, 1, 4}, 6), "");
+  EXPECT_NE(auto_partition_violation(sets, {3, 2, 1, 3, 1}, 6).find("could take row 9"),
+            std::string::npos);
+  EXPECT_NE(auto_partition_violation(sets, {3, 3, 4}, 6).find("differ"), std::string::npos);
+  EXPECT_NE(auto_partition_violation(sets, {3, 2, 1, 4}, 3).find("size"), std::string::npos);
+  EXPECT_NE(auto_partition_violation(sets, {3, 2, 1, 3}, 6).find("sum"), std::string::npos);
+}
+
+TEST(PartitionAuto, KnownResultsOnCollectionMatrices) {
+  // bcsstk02 is completely dense: one run of 66 identical rows.
+  const SymmetricCsc dense = read_matrix_market(std::string(LDLPGS_MATRICES) + "/bcsstk02.mtx");
+  EXPECT_EQ(partition_auto(dense), Sizes(11, 6));
+  EXPECT_EQ(partition_auto(dense, 8), (Sizes{8, 8, 8, 8, 8, 8, 8, 8, 2}));
+  // bcsstk01 has 6 unknowns per node, but its stored pattern does not show it: row 0 couples to
+  // 4, 5, 6, ... and not to rows 1-3 of its own node, so no two consecutive rows are identical
+  // (checked separately with a script) and auto finds only single rows.
+  const SymmetricCsc k01 = read_matrix_market(std::string(LDLPGS_MATRICES) + "/bcsstk01.mtx");
+  EXPECT_EQ(partition_auto(k01), Sizes(48, 1));
+}
+
+// --- read_partition --------------------------------------------------------------------------
+
+TEST(ReadPartition, GoodFile) {
+  const std::string path = temp_file("# blocks of a 10-row matrix\n3\n\n% note\n  4  \n2\r\n1\n");
+  EXPECT_EQ(read_partition(path, 10), (Sizes{3, 4, 2, 1}));
+}
+
+TEST(ReadPartition, MissingFile) {
+  const std::string path = ::testing::TempDir() + "ldlpgs_no_such_partition.txt";
+  EXPECT_EQ(error_of([&] { read_partition(path, 10); }), path + ": cannot open file");
+}
+
+TEST(ReadPartition, BadSum) {
+  const std::string path = temp_file("6\n6\n6\n6\n6\n6\n4\n");
+  EXPECT_EQ(error_of([&] { read_partition(path, 48); }),
+            path + ": block sizes sum to 40, the matrix has 48 rows");
+}
+
+TEST(ReadPartition, EmptyFileSumsToZero) {
+  const std::string path = temp_file("# nothing\n");
+  EXPECT_EQ(error_of([&] { read_partition(path, 5); }),
+            path + ": block sizes sum to 0, the matrix has 5 rows");
+}
+
+TEST(ReadPartition, NonIntegerLine) {
+  const std::string path = temp_file("3\n# c\n2.5\n");
+  const std::string message = error_of([&] { read_partition(path, 10); });
+  EXPECT_EQ(message.rfind(path + ":3: ", 0), 0u) << message;
+  EXPECT_NE(message.find("'2.5'"), std::string::npos) << message;
+  EXPECT_THROW(read_partition(temp_file("3 4\n"), 7), InputError);
+  EXPECT_THROW(read_partition(temp_file("three\n"), 3), InputError);
+  EXPECT_THROW(read_partition(temp_file("99999999999999999999\n"), 3), InputError);
+}
+
+TEST(ReadPartition, ZeroLine) {
+  const std::string path = temp_file("3\n0\n7\n");
+  const std::string message = error_of([&] { read_partition(path, 10); });
+  EXPECT_EQ(message, path + ":2: block size must be positive, got 0");
+}
+
+TEST(ReadPartition, NegativeLine) {
+  const std::string path = temp_file("13\n-3\n");
+  const std::string message = error_of([&] { read_partition(path, 10); });
+  EXPECT_EQ(message, path + ":2: block size must be positive, got -3");
+}
+
+// --- parse_partition -------------------------------------------------------------------------
+
+TEST(ParsePartition, Auto) {
+  EXPECT_EQ(parse_partition("auto", hand_built()), (Sizes{3, 2, 1, 4}));
+  EXPECT_EQ(parse_partition("auto", hand_built(), 3), (Sizes{3, 2, 1, 3, 1}));
+}
+
+TEST(ParsePartition, Uniform) {
+  EXPECT_EQ(parse_partition("4", hand_built()), (Sizes{4, 4, 2}));
+  EXPECT_EQ(parse_partition("10", hand_built()), (Sizes{10}));
+}
+
+TEST(ParsePartition, File) {
+  const std::string path = temp_file("5\n5\n");
+  EXPECT_EQ(parse_partition(path, hand_built()), (Sizes{5, 5}));
+}
+
+TEST(ParsePartition, ZeroAndNegativeAreErrors) {
+  EXPECT_NE(error_of([] { parse_partition("0", hand_built()); }).find("positive"),
+            std::string::npos);
+  EXPECT_NE(error_of([] { parse_partition("-2", hand_built()); }).find("positive"),
+            std::string::npos);
+  EXPECT_THROW(parse_partition("99999999999", hand_built()), InputError);
+}
+
+TEST(ParsePartition, MissingFileIsAnError) {
+  const std::string path = ::testing::TempDir() + "ldlpgs_no_such_blocks";
+  EXPECT_EQ(error_of([&] { parse_partition(path, hand_built()); }), path + ": cannot open file");
+}
+
+TEST(ParsePartition, MaxSizeBelowOneIsAnError) {
+  EXPECT_THROW(parse_partition("auto", hand_built(), 0), InputError);
+  EXPECT_THROW(parse_partition("4", hand_built(), 0), InputError);
+}
+
+}  // namespace
+}  // namespace ldlpgs
