@@ -1,1 +1,165 @@
+// The command-line program, run as a user runs it: outputs checked against the library and
+// CHOLMOD, and one named test per kind of bad input (one-line message naming the file, line
+// and problem; exit code 2; no crash).
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "ordering/metrics.h"
+#include "ordering/ordering.h"
+#include "sparse/cholmod_adapter.h"
+#include "sparse/matrix_market.h"
+#include "sparse/partition.h"
+#include "tests/temp_files.h"
+
+namespace ldlpgs {
+namespace {
+
+using testing::temp_file;
+using testing::temp_path;
+
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+Result run(const std::string& args) {
+  const std::string err_path = temp_path("stderr.txt");
+  const std::string cmd = std::string(LDLPGS_BIN) + " " + args + " 2>" + err_path;
+  Result r{};
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::array<char, 4096> buf;
+  while (size_t got = fread(buf.data(), 1, buf.size(), pipe)) r.out.append(buf.data(), got);
+  const int status = pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  std::ifstream in(err_path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  r.err = ss.str();
+  return r;
+}
+
+const std::string kMatrices = LDLPGS_MATRICES;
+
+// Bad input: exit code 2, one line on stderr that contains every fragment.
+void expect_input_error(const std::string& args, std::initializer_list<std::string> fragments) {
+  const Result r = run(args);
+  EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "not one line: " << r.err;
+  for (const std::string& f : fragments) EXPECT_NE(r.err.find(f), std::string::npos) << "'" << f << "' not in: " << r.err;
+}
+
+TEST(LdlpgsOrder, JsonEqualsLibraryAndCholmod) {
+  const std::string file = kMatrices + "/bcsstk01.mtx";
+  const Result r = run("order " + file + " --json --cholmod --orderings mda,meca,amd-scalar");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["matrix"], "bcsstk01.mtx");
+  EXPECT_EQ(j["n"], 48);
+  const SymmetricCsc a = read_matrix_market(file);
+  const BlockPattern blocks = BlockPattern::from_scalar(a, partition_auto(a));
+  EXPECT_EQ(j["blocks"], blocks.num_blocks());
+  ASSERT_EQ(j["results"].size(), 3u);
+  Cholmod cm;
+  for (const auto& row : j["results"]) {
+    const Ordering o = compute_ordering(find_ordering(row["ordering"].get<std::string>()), blocks, a);
+    const CholmodCounts c = cholmod_counts(a, o.perm, cm);
+    EXPECT_EQ(row["nnz_L"].get<double>(), c.lnz);
+    EXPECT_EQ(row["flops"].get<double>(), c.fl);
+    EXPECT_EQ(row["nnz_L_cholmod"].get<double>(), c.lnz);
+    EXPECT_EQ(row["flops_cholmod"].get<double>(), c.fl);
+    for (const char* key : {"block_fill_edges", "block_flops", "time_ms"}) EXPECT_TRUE(row.contains(key)) << key;
+  }
+  EXPECT_TRUE(j["results"][2]["block_flops"].is_null()) << "a scalar ordering has no block costs";
+}
+
+TEST(LdlpgsOrder, PermOutWritesEachPermutation) {
+  const std::string dir = temp_path("perms");
+  const Result r = run("order " + kMatrices + "/can___24.mtx --blocks 2 --orderings natural,metis --perm-out " + dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* name : {"natural", "metis"}) {
+    std::ifstream in(dir + "/" + name + ".perm");
+    std::vector<int> perm;
+    for (int x; in >> x;) perm.push_back(x);
+    std::vector<int> sorted = perm;
+    std::sort(sorted.begin(), sorted.end());
+    ASSERT_EQ(sorted.size(), 24u) << name;
+    for (int i = 0; i < 24; ++i) EXPECT_EQ(sorted[i], i);
+    if (std::string(name) == "natural") {
+      EXPECT_EQ(perm, sorted);
+    }
+    // Uniform blocks of 2: each block's rows stay together, in order.
+    for (size_t k = 0; k < perm.size(); k += 2) EXPECT_EQ(perm[k] + 1, perm[k + 1]);
+  }
+}
+
+TEST(LdlpgsOrder, TablePrintsEveryOrdering) {
+  const Result r = run("order " + kMatrices + "/LFAT5.mtx");
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const OrderingInfo& o : orderings()) EXPECT_NE(r.out.find("\n" + std::string(o.name) + " "), std::string::npos) << o.name;
+}
+
+TEST(LdlpgsOrder, HelpOnEverySubcommand) {
+  for (const char* sub : {"", "order", "report"}) {
+    const Result r = run(std::string(sub) + " --help");
+    EXPECT_EQ(r.code, 0) << sub;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
+  }
+}
+
+TEST(LdlpgsBadInput, MissingFile) {
+  expect_input_error("order /nonexistent/m.mtx", {"/nonexistent/m.mtx", "cannot open"});
+}
+
+TEST(LdlpgsBadInput, MalformedMatrixMarket) {
+  const std::string f = temp_file("bad.mtx", "%%MatrixMarket matrix coordinate real symmetric\n3 3 2\n1 1 x\n2 2 1\n");
+  expect_input_error("order " + f, {f + ":3:"});
+}
+
+TEST(LdlpgsBadInput, TruncatedMatrixMarket) {
+  const std::string f = temp_file("short.mtx", "%%MatrixMarket matrix coordinate real symmetric\n3 3 3\n1 1 1\n2 2 1\n");
+  expect_input_error("order " + f, {f, "3"});
+}
+
+TEST(LdlpgsBadInput, UnsymmetricMatrix) {
+  expect_input_error("order " + kMatrices + "/Pd.mtx", {"Pd.mtx:", "not symmetric"});
+}
+
+TEST(LdlpgsBadInput, NanValue) {
+  const std::string f = temp_file("nan.mtx", "%%MatrixMarket matrix coordinate real symmetric\n2 2 2\n1 1 nan\n2 2 1\n");
+  expect_input_error("order " + f, {f + ":3:"});
+}
+
+TEST(LdlpgsBadInput, BlockFileDoesNotSumToN) {
+  const std::string blocks = temp_file("blocks.txt", "6\n6\n6\n");
+  expect_input_error("order " + kMatrices + "/bcsstk01.mtx --blocks " + blocks, {blocks, "18", "48"});
+}
+
+TEST(LdlpgsBadInput, BlockFileBadLine) {
+  const std::string blocks = temp_file("blocks.txt", "6\nsix\n");
+  expect_input_error("order " + kMatrices + "/bcsstk01.mtx --blocks " + blocks, {blocks + ":2:"});
+}
+
+TEST(LdlpgsBadInput, ZeroBlockSize) {
+  expect_input_error("order " + kMatrices + "/bcsstk01.mtx --blocks 0", {"0"});
+}
+
+TEST(LdlpgsBadInput, UnknownOrdering) {
+  expect_input_error("order " + kMatrices + "/bcsstk01.mtx --orderings mda,colamd", {"colamd", "meca"});
+}
+
+TEST(LdlpgsBadInput, UnknownOption) {
+  expect_input_error("order " + kMatrices + "/bcsstk01.mtx --frobnicate", {"frobnicate"});
+}
+
+TEST(LdlpgsBadInput, ReportMatricesDirectoryMissing) {
+  expect_input_error("report --matrices /nonexistent/dir --sizes 10", {"/nonexistent/dir"});
+}
+
+}  // namespace
+}  // namespace ldlpgs
