@@ -99,6 +99,45 @@ void print_table(std::FILE* out, const Problem& p, const std::vector<Row>& rows,
   }
 }
 
+void print_markdown_by_metric(std::FILE* out, const std::vector<std::pair<Problem, std::vector<Row>>>& results) {
+  if (results.empty()) return;
+  struct Metric {
+    const char* title;
+    std::optional<double> (*get)(const OrderingSummary&);
+  };
+  const Metric metrics[] = {
+      {"nnz(L), scalar, as CHOLMOD counts", [](const OrderingSummary& s) { return std::optional<double>(s.nnz_L); }},
+      {"flops, scalar, as CHOLMOD counts (Common->fl)",
+       [](const OrderingSummary& s) { return std::optional<double>(s.flops); }},
+      {"block flops of the dense-block LDL^T (block orderings only)",
+       [](const OrderingSummary& s) { return s.block ? std::optional<double>(s.block->flops) : std::nullopt; }},
+  };
+  for (const Metric& m : metrics) {
+    std::fprintf(out, "\n#### %s\n\n| problem | n | blocks |", m.title);
+    for (const Row& r : results.front().second) std::fprintf(out, " %s |", r.summary.name.c_str());
+    std::fprintf(out, "\n|---|---:|---:|");
+    for (size_t i = 0; i < results.front().second.size(); ++i) std::fprintf(out, "---:|");
+    std::fprintf(out, "\n");
+    for (const auto& [p, rows] : results) {
+      double best = 1e300;
+      for (const Row& r : rows) {
+        if (auto v = m.get(r.summary)) best = std::min(best, *v);
+      }
+      std::fprintf(out, "| %s | %d | %d |", p.name.c_str(), p.a.n, p.blocks.num_blocks());
+      for (const Row& r : rows) {
+        const auto v = m.get(r.summary);
+        if (!v) {
+          std::fprintf(out, " - |");
+        } else {
+          const std::string s = si(*v);
+          std::fprintf(out, *v == best ? " **%s** |" : " %s |", s.c_str());
+        }
+      }
+      std::fprintf(out, "\n");
+    }
+  }
+}
+
 nlohmann::json to_json(const Problem& p, const std::vector<Row>& rows) {
   nlohmann::json j = {{"matrix", p.name}, {"n", p.a.n}, {"blocks", p.blocks.num_blocks()}};
   nlohmann::json results = nlohmann::json::array();

@@ -34,6 +34,14 @@ std::vector<int> order_meca_w(const BlockPattern& pattern);
 std::vector<int> order_amd(const BlockPattern& pattern);
 std::vector<int> order_metis(const BlockPattern& pattern);
 
+// Ties between blocks of equal key (degree, or edges created) are broken by the lowest block
+// index, or the highest, or (MECA only) the least degree first, then the lowest index. The
+// defaults in order_mda and order_meca were chosen by measurement (bench/tie_breaking.cpp,
+// papers/orderings.md).
+enum class TieBreak { lowest_index, highest_index, least_degree };
+std::vector<int> minimum_degree(const BlockPattern& pattern, bool weighted, TieBreak tie);
+std::vector<int> minimum_edge_creation(const BlockPattern& pattern, bool weighted, TieBreak tie);
+
 enum class Level { block, scalar };
 
 struct OrderingInfo {

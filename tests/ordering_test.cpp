@@ -190,10 +190,10 @@ std::vector<BlockPattern> small_patterns() {
   return out;
 }
 
-TEST(MinimumDegree, EveryPivotHasLeastDegreeThenLowestIndex) {
+TEST(MinimumDegree, EveryPivotHasLeastDegreeThenHighestIndex) {
   for (const BlockPattern& p : small_patterns()) {
     expect_greedy(p, order_mda(p), [](const DenseGraph& g, int v) {
-      return std::make_pair(g.neighbors(v).size(), v);
+      return std::make_pair(g.neighbors(v).size(), -v);
     });
   }
 }
@@ -203,21 +203,21 @@ TEST(MinimumDegree, WeightedCountsRows) {
     expect_greedy(p, order_mda_w(p), [&](const DenseGraph& g, int v) {
       int64_t rows = 0;
       for (int u : g.neighbors(v)) rows += p.block(u).size;
-      return std::make_pair(rows, v);
+      return std::make_pair(rows, -v);
     });
   }
 }
 
-TEST(MinimumEdgeCreation, EveryPivotCreatesFewestEdgesThenLeastDegree) {
+TEST(MinimumEdgeCreation, EveryPivotCreatesFewestEdgesThenHighestIndex) {
   for (const BlockPattern& p : small_patterns()) {
     const std::vector<int> ones(p.num_blocks(), 1);
     expect_greedy(p, order_meca(p), [&](const DenseGraph& g, int v) {
-      return std::make_tuple(g.fill(v, ones), g.neighbors(v).size(), v);
+      return std::make_pair(g.fill(v, ones), -v);
     });
   }
 }
 
-TEST(MinimumEdgeCreation, WeightedCountsScalarEntries) {
+TEST(MinimumEdgeCreation, WeightedCountsScalarEntriesThenLeastDegree) {
   for (const BlockPattern& p : small_patterns()) {
     const std::vector<int> sizes = p.block_sizes();
     expect_greedy(p, order_meca_w(p), [&](const DenseGraph& g, int v) {
