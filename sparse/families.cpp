@@ -91,9 +91,10 @@ BodyGraph make_family(std::string_view family, int m, uint32_t seed) {
     int left = ground, right = ground;
     int count = 0;
     while (count < m) {
-      int l = b.body(), r = b.body();
+      int l = b.body();
       b.joint(left, l);
       if (++count == m) break;
+      int r = b.body();
       b.joint(right, r);
       if (++count == m) break;
       b.joint(l, r);
@@ -103,7 +104,12 @@ BodyGraph make_family(std::string_view family, int m, uint32_t seed) {
     }
   } else if (family == "loop") {
     // A closed track: m bodies in a ring, m joints; one body pinned to the ground would make it
-    // a structure, so the track floats, as a tank track does around its wheels.
+    // a structure, so the track floats, as a tank track does around its wheels. A ring needs two
+    // links: a single constraint is one body hung from the ground.
+    if (m == 1) {
+      b.joint(ground, b.body());
+      return b.done();
+    }
     int first = b.body(), prev = first;
     for (int k = 1; k < m; ++k) {
       int next = b.body();
@@ -119,19 +125,20 @@ BodyGraph make_family(std::string_view family, int m, uint32_t seed) {
   } else if (family == "grid") {
     // A w x w cloth of bodies, joints on grid edges, the top row pinned to the ground.
     int w = std::max(1, static_cast<int>(std::lround(std::sqrt(m / 2.0))));
-    std::vector<int> id(w * w);
-    for (int& x : id) x = b.body();
+    // Bodies are made when a joint first reaches them, so that a grid cut short by m leaves no
+    // loose body behind.
+    std::vector<int> made(w * w, -1);
+    auto id_of = [&](int cell) { return made[cell] == -1 ? (made[cell] = b.body()) : made[cell]; };
     int count = 0;
     for (int r = 0; r < w && count < m; ++r) {
       for (int c = 0; c < w && count < m; ++c) {
-        if (r == 0) { b.joint(ground, id[c]); ++count; }
-        if (c > 0 && count < m) { b.joint(id[r * w + c - 1], id[r * w + c]); ++count; }
-        if (r > 0 && count < m) { b.joint(id[(r - 1) * w + c], id[r * w + c]); ++count; }
+        if (r == 0) { b.joint(ground, id_of(c)); ++count; }
+        if (c > 0 && count < m) { b.joint(id_of(r * w + c - 1), id_of(r * w + c)); ++count; }
+        if (r > 0 && count < m) { b.joint(id_of((r - 1) * w + c), id_of(r * w + c)); ++count; }
       }
     }
     // A small grid holds fewer edges than asked for: hang a tail chain off the last body.
-    int prev = id.back();
-    for (; count < m; ++count) {
+    for (int prev = count < m ? id_of(w * w - 1) : -1; count < m; ++count) {
       int next = b.body();
       b.joint(prev, next);
       prev = next;
