@@ -9,7 +9,6 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <filesystem>
 #include <set>
 #include <string>
 #include <utility>
@@ -17,51 +16,18 @@
 
 #include "sparse/matrix_market.h"
 #include "sparse/partition.h"
+#include "tests/test_matrices.h"
 
 namespace ldlpgs {
 namespace {
 
-namespace fs = std::filesystem;
 using Sizes = std::vector<int>;
 using Position = std::pair<int, int>;  // (row, col), row >= col
 
-struct Named {
-  std::string name;
-  SymmetricCsc a;
-};
-
-// Every test matrix except the unsymmetric Pd.mtx, read once, in name order.
-const std::vector<Named>& test_matrices() {
-  static const std::vector<Named> all = [] {
-    std::vector<Named> out;
-    for (const auto& file : fs::directory_iterator(LDLPGS_MATRICES)) {
-      if (file.path().extension() != ".mtx" || file.path().filename() == "Pd.mtx") continue;
-      out.push_back({file.path().filename().string(), read_matrix_market(file.path().string())});
-    }
-    std::sort(out.begin(), out.end(), [](const Named& x, const Named& y) { return x.name < y.name; });
-    return out;
-  }();
-  return all;
-}
-
-// The full symmetric matrix as dense, read from the arrays.
-Eigen::MatrixXd dense(const SymmetricCsc& a) {
-  Eigen::MatrixXd d = Eigen::MatrixXd::Zero(a.n, a.n);
-  for (int j = 0; j < a.n; ++j) {
-    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) {
-      d(a.row_idx[p], j) = d(j, a.row_idx[p]) = a.values[p];
-    }
-  }
-  return d;
-}
-
-std::set<Position> stored(const SymmetricCsc& a) {
-  std::set<Position> s;
-  for (int j = 0; j < a.n; ++j) {
-    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) s.insert({a.row_idx[p], j});
-  }
-  return s;
-}
+using testing::dense;
+using testing::expect_valid;
+using testing::stored;
+using testing::test_matrices;
 
 // Brute force from a and the sizes alone: block of each row, block adjacency as a boolean
 // matrix (blocks I != J adjacent iff a stores an entry between them).
@@ -84,22 +50,6 @@ Blocks blocks_of(const SymmetricCsc& a, const Sizes& sizes) {
     }
   }
   return b;
-}
-
-void expect_valid(const SymmetricCsc& a) {
-  ASSERT_EQ(static_cast<int>(a.col_ptr.size()), a.n + 1);
-  ASSERT_EQ(a.col_ptr[0], 0);
-  ASSERT_EQ(a.row_idx.size(), static_cast<size_t>(a.nnz()));
-  ASSERT_EQ(a.values.size(), static_cast<size_t>(a.nnz()));
-  for (int j = 0; j < a.n; ++j) {
-    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) {
-      ASSERT_GE(a.row_idx[p], j);
-      ASSERT_LT(a.row_idx[p], a.n);
-      if (p > a.col_ptr[j]) {
-        ASSERT_LT(a.row_idx[p - 1], a.row_idx[p]);
-      }
-    }
-  }
 }
 
 // Everything the header promises, each part against a's arrays and the brute-force blocks.

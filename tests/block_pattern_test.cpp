@@ -8,7 +8,6 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <filesystem>
 #include <random>
 #include <set>
 #include <string>
@@ -17,32 +16,15 @@
 
 #include "sparse/matrix_market.h"
 #include "sparse/partition.h"
+#include "tests/test_matrices.h"
 
 namespace ldlpgs {
 namespace {
 
-namespace fs = std::filesystem;
 using Edge = std::pair<int, int>;  // (smaller, larger)
 using Sizes = std::vector<int>;
 
-struct Named {
-  std::string name;
-  SymmetricCsc a;
-};
-
-// Every test matrix except the unsymmetric Pd.mtx, read once, in name order.
-const std::vector<Named>& test_matrices() {
-  static const std::vector<Named> all = [] {
-    std::vector<Named> out;
-    for (const auto& file : fs::directory_iterator(LDLPGS_MATRICES)) {
-      if (file.path().extension() != ".mtx" || file.path().filename() == "Pd.mtx") continue;
-      out.push_back({file.path().filename().string(), read_matrix_market(file.path().string())});
-    }
-    std::sort(out.begin(), out.end(), [](const Named& x, const Named& y) { return x.name < y.name; });
-    return out;
-  }();
-  return all;
-}
+using testing::test_matrices;
 
 // The two partitions the tests use on a matrix: auto (blocks of identical rows) and uniform 3.
 std::vector<std::pair<std::string, Sizes>> partitions(const SymmetricCsc& a) {

@@ -9,7 +9,6 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <filesystem>
 #include <numeric>
 #include <random>
 #include <string>
@@ -21,51 +20,19 @@
 #include "sparse/families.h"
 #include "sparse/matrix_market.h"
 #include "tests/temp_files.h"
+#include "tests/test_matrices.h"
 
 namespace ldlpgs {
 namespace {
 
-namespace fs = std::filesystem;
 const std::string kMatrices = LDLPGS_MATRICES;
 
-struct Named {
-  std::string name;
-  SymmetricCsc a;
-};
-
-// Every test matrix except the unsymmetric Pd.mtx, read once, in name order.
-const std::vector<Named>& test_matrices() {
-  static const std::vector<Named> all = [] {
-    std::vector<Named> out;
-    for (const auto& file : fs::directory_iterator(kMatrices)) {
-      if (file.path().extension() != ".mtx" || file.path().filename() == "Pd.mtx") continue;
-      out.push_back({file.path().filename().string(), read_matrix_market(file.path().string())});
-    }
-    std::sort(out.begin(), out.end(), [](const Named& x, const Named& y) { return x.name < y.name; });
-    return out;
-  }();
-  return all;
-}
+using testing::dense;
+using testing::expect_equal;
+using testing::Named;
+using testing::test_matrices;
 
 SymmetricCsc read(const std::string& name) { return read_matrix_market(kMatrices + "/" + name); }
-
-// The full symmetric matrix as dense, read from the arrays.
-Eigen::MatrixXd dense(const SymmetricCsc& a) {
-  Eigen::MatrixXd d = Eigen::MatrixXd::Zero(a.n, a.n);
-  for (int j = 0; j < a.n; ++j) {
-    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) {
-      d(a.row_idx[p], j) = d(j, a.row_idx[p]) = a.values[p];
-    }
-  }
-  return d;
-}
-
-void expect_equal(const SymmetricCsc& x, const SymmetricCsc& y) {
-  EXPECT_EQ(x.n, y.n);
-  EXPECT_EQ(x.col_ptr, y.col_ptr);
-  EXPECT_EQ(x.row_idx, y.row_idx);
-  EXPECT_EQ(x.values, y.values);
-}
 
 // Owns a cholmod_sparse that CHOLMOD allocated.
 struct Owned {

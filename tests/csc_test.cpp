@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "sparse/matrix_market.h"
+#include "tests/test_matrices.h"
 
 namespace ldlpgs {
 namespace {
@@ -22,33 +23,8 @@ namespace {
 namespace fs = std::filesystem;
 using Position = std::pair<int, int>;  // (row, col), row >= col
 
-// The invariants csc.h promises for a SymmetricCsc: sizes agree, lower triangle only, rows
-// strictly ascending within each column (so no duplicates).
-void expect_valid(const SymmetricCsc& a) {
-  ASSERT_EQ(static_cast<int>(a.col_ptr.size()), a.n + 1);
-  ASSERT_EQ(a.col_ptr[0], 0);
-  ASSERT_EQ(a.row_idx.size(), static_cast<size_t>(a.nnz()));
-  ASSERT_EQ(a.values.size(), static_cast<size_t>(a.nnz()));
-  for (int j = 0; j < a.n; ++j) {
-    ASSERT_LE(a.col_ptr[j], a.col_ptr[j + 1]) << "column " << j;
-    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) {
-      ASSERT_GE(a.row_idx[p], j) << "column " << j << " holds an upper entry";
-      ASSERT_LT(a.row_idx[p], a.n);
-      if (p > a.col_ptr[j]) {
-        ASSERT_LT(a.row_idx[p - 1], a.row_idx[p]) << "column " << j;
-      }
-    }
-  }
-}
-
-// The stored positions of a, read from the arrays.
-std::set<Position> stored(const SymmetricCsc& a) {
-  std::set<Position> s;
-  for (int j = 0; j < a.n; ++j) {
-    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) s.insert({a.row_idx[p], j});
-  }
-  return s;
-}
+using testing::expect_valid;
+using testing::stored;
 
 // a as a dense lower triangle, read from the arrays.
 Eigen::MatrixXd dense_lower(const SymmetricCsc& a) {

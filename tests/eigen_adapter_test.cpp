@@ -7,35 +7,17 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <filesystem>
 #include <string>
 #include <vector>
 
 #include "sparse/matrix_market.h"
+#include "tests/test_matrices.h"
 
 namespace ldlpgs {
 namespace {
 
-namespace fs = std::filesystem;
-
-struct Named {
-  std::string name;
-  SymmetricCsc a;
-};
-
-// Every test matrix except the unsymmetric Pd.mtx, read once, in name order.
-const std::vector<Named>& test_matrices() {
-  static const std::vector<Named> all = [] {
-    std::vector<Named> out;
-    for (const auto& file : fs::directory_iterator(LDLPGS_MATRICES)) {
-      if (file.path().extension() != ".mtx" || file.path().filename() == "Pd.mtx") continue;
-      out.push_back({file.path().filename().string(), read_matrix_market(file.path().string())});
-    }
-    std::sort(out.begin(), out.end(), [](const Named& x, const Named& y) { return x.name < y.name; });
-    return out;
-  }();
-  return all;
-}
+using testing::expect_equal;
+using testing::test_matrices;
 
 // The reference: a dense matrix filled from the arrays, lower triangle or both.
 Eigen::MatrixXd dense(const SymmetricCsc& a, bool full) {
@@ -55,13 +37,6 @@ int64_t diagonal_entries(const SymmetricCsc& a) {
     for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) k += a.row_idx[p] == j;
   }
   return k;
-}
-
-void expect_equal(const SymmetricCsc& x, const SymmetricCsc& y) {
-  EXPECT_EQ(x.n, y.n);
-  EXPECT_EQ(x.col_ptr, y.col_ptr);
-  EXPECT_EQ(x.row_idx, y.row_idx);
-  EXPECT_EQ(x.values, y.values);
 }
 
 TEST(ToEigen, HandBuilt) {

@@ -17,6 +17,7 @@
 #include "sparse/cholmod_adapter.h"
 #include "sparse/error.h"
 #include "tests/temp_files.h"
+#include "tests/test_matrices.h"
 
 namespace ldlpgs {
 namespace {
@@ -25,6 +26,7 @@ namespace fs = std::filesystem;
 
 const std::string kMatrices = LDLPGS_MATRICES;
 
+using testing::expect_valid;
 using testing::temp_file;
 
 // The message read_matrix_market throws for path (a test failure if it does not throw).
@@ -62,23 +64,6 @@ std::map<std::pair<int, int>, double> entries(const SymmetricCsc& a) {
     for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) m[{a.row_idx[p], j}] = a.values[p];
   }
   return m;
-}
-
-// Structural validity of a SymmetricCsc: the invariants csc.h promises.
-void expect_valid(const SymmetricCsc& a) {
-  ASSERT_EQ(static_cast<int>(a.col_ptr.size()), a.n + 1);
-  ASSERT_EQ(a.col_ptr[0], 0);
-  ASSERT_EQ(a.row_idx.size(), static_cast<size_t>(a.nnz()));
-  ASSERT_EQ(a.values.size(), static_cast<size_t>(a.nnz()));
-  for (int j = 0; j < a.n; ++j) {
-    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) {
-      ASSERT_GE(a.row_idx[p], j);
-      ASSERT_LT(a.row_idx[p], a.n);
-      if (p > a.col_ptr[j]) {
-        ASSERT_LT(a.row_idx[p - 1], a.row_idx[p]);
-      }
-    }
-  }
 }
 
 void expect_same(const SymmetricCsc& a, const SymmetricCsc& b, double rel_tol) {
