@@ -29,9 +29,10 @@ install_missing() {
 build() {
   install_missing "${packages[@]}"
   local dir=${BUILD_DIR:-build}
-  local sanitize=OFF
-  [ "${SANITIZE:-0}" = 1 ] && sanitize=ON
-  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLDLPGS_SANITIZE=$sanitize
+  # Sanitized builds are for the tests: timings under ASan mean nothing, so no benchmarks.
+  local sanitize=OFF bench=ON
+  if [ "${SANITIZE:-0}" = 1 ]; then sanitize=ON; bench=OFF; fi
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLDLPGS_SANITIZE=$sanitize -DLDLPGS_BUILD_BENCH=$bench
   cmake --build "$dir" -j "${JOBS:-$(nproc)}"
 }
 
