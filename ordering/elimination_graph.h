@@ -1,8 +1,9 @@
 #pragma once
 // The elimination game (the talk's "Gaussian elimination <-> graph elimination"): eliminating
 // pivot p connects all of p's neighbours pairwise (the fill) and removes p. EliminationGraph is
-// the explicit graph the game is played on; `eliminate` plays a whole pivot sequence and records
-// the block structure of L.
+// the explicit graph the game is played on (MDA and MECA choose their pivots on it); `eliminate`
+// gives the game's outcome for a whole pivot sequence, the block structure of L, from the
+// elimination tree instead of playing it edge by edge.
 #include <cstdint>
 #include <span>
 #include <utility>
@@ -53,7 +54,8 @@ struct Elimination {
   }
 };
 
-// Plays the game for `pivots` (a permutation of the blocks: pivots[k] = block eliminated k-th).
+// The outcome of the game for `pivots` (a permutation of the blocks: pivots[k] = block
+// eliminated k-th), in O(blocks of L).
 Elimination eliminate(const BlockPattern& pattern, std::span<const int> pivots);
 
 }  // namespace ldlpgs
