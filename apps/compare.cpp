@@ -52,80 +52,70 @@ std::string si(double x) {
   return buf;
 }
 
+// The compared quantities; the block ones exist for block orderings only.
+using Metric = std::optional<double> (*)(const OrderingSummary&);
+std::optional<double> nnz(const OrderingSummary& s) { return s.nnz_L; }
+std::optional<double> flops(const OrderingSummary& s) { return s.flops; }
+std::optional<double> block_fill(const OrderingSummary& s) {
+  return s.block ? std::optional<double>(s.block->fill_edges) : std::nullopt;
+}
+std::optional<double> block_flops(const OrderingSummary& s) {
+  return s.block ? std::optional<double>(s.block->flops) : std::nullopt;
+}
+
+// The least value of a metric over the rows (fewest entries, flops, fill is best).
+double best_of(const std::vector<Row>& rows, Metric get) {
+  double b = 1e300;
+  for (const Row& r : rows) {
+    if (auto v = get(r.summary)) b = std::min(b, *v);
+  }
+  return b;
+}
+
 }  // namespace
 
-void print_table(std::FILE* out, const Problem& p, const std::vector<Row>& rows, bool markdown) {
+void print_table(std::FILE* out, const Problem& p, const std::vector<Row>& rows) {
   const bool with_cholmod = !rows.empty() && rows.front().cholmod.has_value();
-  // The best of each column gets a '*' (ties included): fewest entries, flops, fill.
-  auto best = [&](auto get) {
-    double b = 1e300;
-    for (const Row& r : rows) {
-      if (auto v = get(r)) b = std::min(b, *v);
-    }
-    return b;
-  };
-  auto nnz = [](const Row& r) { return std::optional<double>(r.summary.nnz_L); };
-  auto fl = [](const Row& r) { return std::optional<double>(r.summary.flops); };
-  auto fill = [](const Row& r) {
-    return r.summary.block ? std::optional<double>(r.summary.block->fill_edges) : std::nullopt;
-  };
-  auto bfl = [](const Row& r) {
-    return r.summary.block ? std::optional<double>(r.summary.block->flops) : std::nullopt;
-  };
-  const double best_nnz = best(nnz), best_fl = best(fl), best_fill = best(fill), best_bfl = best(bfl);
-  auto cell = [&](std::optional<double> v, double b, bool exact) {
+  // The best of each column gets a '*' (ties included).
+  auto cell = [&](Metric get, const Row& r, bool exact) {
+    const std::optional<double> v = get(r.summary);
     if (!v) return std::string("-");
-    return (exact ? std::to_string(static_cast<long long>(*v)) : si(*v)) + (*v == b ? "*" : "");
+    return (exact ? std::to_string(static_cast<long long>(*v)) : si(*v)) + (*v == best_of(rows, get) ? "*" : "");
   };
-  const char* sep = markdown ? " | " : "  ";
-  std::fprintf(out, "%s%s: n = %d, %d blocks, %lld block edges, nnz(A) = %lld\n", markdown ? "\n#### " : "",
-               p.name.c_str(), p.a.n, p.blocks.num_blocks(), static_cast<long long>(p.blocks.num_edges()),
+  std::fprintf(out, "%s: n = %d, %d blocks, %lld block edges, nnz(A) = %lld\n", p.name.c_str(), p.a.n,
+               p.blocks.num_blocks(), static_cast<long long>(p.blocks.num_edges()),
                static_cast<long long>(2 * p.a.nnz() - p.a.n));
-  if (markdown) std::fprintf(out, "\n");
-  std::fprintf(out, "%s%-13s%s%10s%s%9s%s%11s%s%11s%s%9s", markdown ? "| " : "", "ordering", sep, "nnz(L)", sep,
-               "flops", sep, "block fill", sep, "block flops", sep, "time ms");
-  if (with_cholmod) std::fprintf(out, "%s%14s%s%14s", sep, "CHOLMOD nnz(L)", sep, "CHOLMOD flops");
-  std::fprintf(out, "%s\n", markdown ? " |" : "");
-  if (markdown) std::fprintf(out, "|---|---:|---:|---:|---:|---:|%s\n", with_cholmod ? "---:|---:|" : "");
+  std::fprintf(out, "%-13s  %10s  %9s  %11s  %11s  %9s", "ordering", "nnz(L)", "flops", "block fill", "block flops",
+               "time ms");
+  if (with_cholmod) std::fprintf(out, "  %14s  %14s", "CHOLMOD nnz(L)", "CHOLMOD flops");
+  std::fprintf(out, "\n");
   for (const Row& r : rows) {
-    std::fprintf(out, "%s%-13s%s%10s%s%9s%s%11s%s%11s%s%9.2f", markdown ? "| " : "", r.summary.name.c_str(), sep,
-                 cell(nnz(r), best_nnz, true).c_str(), sep, cell(fl(r), best_fl, false).c_str(), sep,
-                 cell(fill(r), best_fill, true).c_str(), sep, cell(bfl(r), best_bfl, false).c_str(), sep,
+    std::fprintf(out, "%-13s  %10s  %9s  %11s  %11s  %9.2f", r.summary.name.c_str(), cell(nnz, r, true).c_str(),
+                 cell(flops, r, false).c_str(), cell(block_fill, r, true).c_str(), cell(block_flops, r, false).c_str(),
                  r.summary.time_ms);
-    if (r.cholmod) {
-      std::fprintf(out, "%s%14.0f%s%14s", sep, r.cholmod->lnz, sep, si(r.cholmod->fl).c_str());
-    }
-    std::fprintf(out, "%s\n", markdown ? " |" : "");
+    if (r.cholmod) std::fprintf(out, "  %14.0f  %14s", r.cholmod->lnz, si(r.cholmod->fl).c_str());
+    std::fprintf(out, "\n");
   }
 }
 
 void print_markdown_by_metric(std::FILE* out, const std::vector<std::pair<Problem, std::vector<Row>>>& results) {
   if (results.empty()) return;
-  struct Metric {
-    const char* title;
-    std::optional<double> (*get)(const OrderingSummary&);
+  const std::pair<const char*, Metric> metrics[] = {
+      {"nnz(L), scalar, as CHOLMOD counts", nnz},
+      {"flops, scalar, as CHOLMOD counts (Common->fl)", flops},
+      {"block flops of the dense-block LDL^T (block orderings only)", block_flops},
   };
-  const Metric metrics[] = {
-      {"nnz(L), scalar, as CHOLMOD counts", [](const OrderingSummary& s) { return std::optional<double>(s.nnz_L); }},
-      {"flops, scalar, as CHOLMOD counts (Common->fl)",
-       [](const OrderingSummary& s) { return std::optional<double>(s.flops); }},
-      {"block flops of the dense-block LDL^T (block orderings only)",
-       [](const OrderingSummary& s) { return s.block ? std::optional<double>(s.block->flops) : std::nullopt; }},
-  };
-  for (const Metric& m : metrics) {
-    std::fprintf(out, "\n#### %s\n\n| problem | n | blocks |", m.title);
+  for (const auto& [title, get] : metrics) {
+    std::fprintf(out, "\n#### %s\n\n| problem | n | blocks |", title);
     for (const Row& r : results.front().second) std::fprintf(out, " %s |", r.summary.name.c_str());
     std::fprintf(out, "\n|---|---:|---:|");
     for (size_t i = 0; i < results.front().second.size(); ++i) std::fprintf(out, "---:|");
     std::fprintf(out, "\n");
     for (const auto& [p, rows] : results) {
-      double best = 1e300;
-      for (const Row& r : rows) {
-        if (auto v = m.get(r.summary)) best = std::min(best, *v);
-      }
+      const double best = best_of(rows, get);
       std::fprintf(out, "| %s | %d | %d |", p.name.c_str(), p.a.n, p.blocks.num_blocks());
       for (const Row& r : rows) {
-        const auto v = m.get(r.summary);
+        const auto v = get(r.summary);
         if (!v) {
           std::fprintf(out, " - |");
         } else {

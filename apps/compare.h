@@ -33,7 +33,8 @@ struct Row {
 
 std::vector<Row> compare(const Problem& p, const std::vector<std::string>& names, bool with_cholmod);
 
-void print_table(std::FILE* out, const Problem& p, const std::vector<Row>& rows, bool markdown = false);
+// One table: a row per ordering, the best of each column marked '*'.
+void print_table(std::FILE* out, const Problem& p, const std::vector<Row>& rows);
 // Three tables (nnz(L), flops, block flops): a row per problem, a column per ordering, the
 // best of each row in bold.
 void print_markdown_by_metric(std::FILE* out, const std::vector<std::pair<Problem, std::vector<Row>>>& results);
