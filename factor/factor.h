@@ -1,0 +1,19 @@
+#pragma once
+// factor/: the sparse block LDL^T of the talk ("Physics Solver in Roblox", GDC), in two phases
+// with two types, as CSparse (cs_schol / cs_chol), Eigen (analyzePattern / factorize) and MuJoCo
+// (mju_cholFactorSymbolic / Numeric) split them:
+//
+//   symbolic.h  Symbolic: block structure of L with fill, packed layout (column-major blocks,
+//               row-major elements), reduction-scattering indices, load map. Once per pattern.
+//   numeric.h   Numeric: factorize (regularization eps diag(H), status, inertia), solve with one
+//               or many right-hand sides, the factor in CHOLMOD's scalar convention. Every frame.
+//   kernels.h   the per-pivot kernels templated on the block size 1..6, generic path above.
+//   verify.h    the factor against CHOLMOD's simplicial LDL^T and the backward error of both.
+//
+// Typical use:
+//   Ordering o = compute_ordering(find_ordering("meca"), blocks, h);
+//   Symbolic s = Symbolic::analyze(h, blocks, o);
+//   Numeric f(s);
+//   if (FactorInfo info = f.factorize(h, {.regularization = 1e-8}); info.usable()) f.solve(b);
+#include "factor/numeric.h"
+#include "factor/symbolic.h"

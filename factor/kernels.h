@@ -1,0 +1,115 @@
+#pragma once
+// The numeric kernels of the block LDL^T, as the talk's eliminatePivot<degree> has them: small
+// free functions templated on the pivot's block size N (1..6 unrolled by the compiler; N = 0 is
+// the generic path, with the size given at run time), allocating nothing. Layout (symbolic.h):
+// a node block N_k is d x d row-major (only its lower triangle is read); the edge blocks below it
+// are stacked into one h x d row-major matrix E, each of its rows one scalar row of L.
+#include <cmath>
+#include <cstdint>
+#include <type_traits>
+
+namespace ldlpgs::kernels {
+
+// Calls f(std::integral_constant<int, N>) with N = d for d in 1..6, N = 0 otherwise: the switch
+// on the pivot's size that picks the unrolled kernel (Ceres small_blas.h does the same).
+template <class F>
+inline void dispatch_size(int d, F&& f) {
+  switch (d) {
+    case 1: f(std::integral_constant<int, 1>{}); break;
+    case 2: f(std::integral_constant<int, 2>{}); break;
+    case 3: f(std::integral_constant<int, 3>{}); break;
+    case 4: f(std::integral_constant<int, 4>{}); break;
+    case 5: f(std::integral_constant<int, 5>{}); break;
+    case 6: f(std::integral_constant<int, 6>{}); break;
+    default: f(std::integral_constant<int, 0>{}); break;
+  }
+}
+
+template <int N>
+inline double dot(const double* x, const double* y, int n) {
+  const int m = N ? N : n;
+  double s = 0;
+  for (int k = 0; k < m; ++k) s += x[k] * y[k];
+  return s;
+}
+
+// Dense LDL^T of the d x d node block in place (the talk's ldlDecompose<degree>): on return the
+// strict lower triangle holds the unit-lower L, the diagonal holds D. No pivoting: the block
+// ordering fixed the order. floor[j] is the magnitude at or below which pivot j counts as zero;
+// returns the first pivot that is zero or not finite (its value is left on the diagonal), or -1.
+// Negative pivots are allowed: LDL^T exists for indefinite matrices whose leading minors are
+// nonsingular, and the caller counts them (the inertia).
+template <int N>
+inline int ldl_node(double* a, const double* floor, int n) {
+  const int m = N ? N : n;
+  for (int j = 0; j < m; ++j) {
+    double* aj = a + j * m;
+    double d = aj[j];
+    for (int k = 0; k < j; ++k) d -= aj[k] * aj[k] * a[k * m + k];
+    aj[j] = d;
+    if (!(std::abs(d) > floor[j]) || !std::isfinite(d)) return j;
+    const double inv = 1.0 / d;
+    for (int i = j + 1; i < m; ++i) {
+      double* ai = a + i * m;
+      double s = ai[j];
+      for (int k = 0; k < j; ++k) s -= ai[k] * aj[k] * a[k * m + k];
+      ai[j] = s * inv;
+    }
+  }
+  return -1;
+}
+
+// x <- N^-1 x for a factored node block (L D L^T in place): forward with the unit-lower L,
+// divide by D, back substitution with L^T.
+template <int N>
+inline void solve_node(const double* a, double* x, int n) {
+  const int m = N ? N : n;
+  for (int i = 1; i < m; ++i)
+    for (int k = 0; k < i; ++k) x[i] -= a[i * m + k] * x[k];
+  for (int i = 0; i < m; ++i) x[i] /= a[i * m + i];
+  for (int i = m - 2; i >= 0; --i)
+    for (int k = i + 1; k < m; ++k) x[i] -= a[k * m + i] * x[k];
+}
+
+// L_{*,k} = E_{*,k} N_k^-1 (the talk's computeL): row r of L solves N_k l^T = e_r^T, as N_k is
+// symmetric. e and l are h x d row-major; l is the scratch buffer.
+template <int N>
+inline void compute_l(double* l, const double* node, const double* e, int h, int n) {
+  const int m = N ? N : n;
+  for (int r = 0; r < h; ++r) {
+    double* lr = l + r * m;
+    for (int c = 0; c < m; ++c) lr[c] = e[r * m + c];
+    solve_node<N>(node, lr, m);
+  }
+}
+
+// S <- S - E L^T over the lower triangle of the reduction (the talk's reduce<degree>, 70% of the
+// time): row pair (i, j), j <= i, lands at values[rsi[...]], precomputed by the symbolic phase.
+template <int N>
+inline void reduce(double* values, const double* e, const double* l, const int32_t* rsi, int h, int n) {
+  const int m = N ? N : n;
+  for (int i = 0; i < h; ++i) {
+    const double* ei = e + i * m;
+    for (int j = 0; j <= i; ++j) values[*rsi++] -= dot<N>(ei, l + j * m, m);
+  }
+}
+
+// Forward substitution through pivot k's column: y[rows[r]] -= L_r . y_k for each row r of L.
+template <int N>
+inline void forward_column(double* y, const double* yk, const double* l, const int* rows, int h, int n) {
+  const int m = N ? N : n;
+  for (int r = 0; r < h; ++r) y[rows[r]] -= dot<N>(l + r * m, yk, m);
+}
+
+// Back substitution through pivot k's column: y_k -= L^T y[rows].
+template <int N>
+inline void backward_column(const double* y, double* yk, const double* l, const int* rows, int h, int n) {
+  const int m = N ? N : n;
+  for (int r = 0; r < h; ++r) {
+    const double yr = y[rows[r]];
+    const double* lr = l + r * m;
+    for (int c = 0; c < m; ++c) yk[c] -= lr[c] * yr;
+  }
+}
+
+}  // namespace ldlpgs::kernels

@@ -1,0 +1,187 @@
+// Numeric phase: load, eliminate pivot by pivot with the kernels of kernels.h, solve.
+#include "factor/numeric.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <sstream>
+
+#include "factor/kernels.h"
+
+namespace ldlpgs {
+
+const char* to_string(FactorStatus status) {
+  switch (status) {
+    case FactorStatus::ok: return "ok";
+    case FactorStatus::indefinite: return "indefinite";
+    case FactorStatus::zero_pivot: return "zero pivot";
+    case FactorStatus::not_finite: return "not finite";
+  }
+  return "?";
+}
+
+std::string FactorInfo::message() const {
+  std::ostringstream out;
+  out << to_string(status);
+  if (block >= 0) out << " at block " << block << " (row " << row << "), pivot " << pivot;
+  out << "; inertia +" << inertia.positive << " -" << inertia.negative << " 0:" << inertia.zero
+      << ", smallest pivot ratio " << min_pivot_ratio;
+  return out.str();
+}
+
+Numeric::Numeric(const Symbolic& symbolic)
+    : symbolic_(&symbolic),
+      values_(symbolic.num_values()),
+      scratch_(symbolic.scratch_size()),
+      floor_(symbolic.num_rows()),
+      diag_(symbolic.num_rows()),
+      work_(symbolic.num_rows()) {}
+
+void Numeric::load(const SymmetricCsc& a, const FactorOptions& options) {
+  const Symbolic& s = *symbolic_;
+  assert(a.n == s.num_rows() && a.nnz() == s.pattern_nnz());
+  std::fill(values_.begin(), values_.end(), 0.0);
+  const std::span<const int64_t> map = s.load_map();
+  for (int64_t p = 0; p < a.nnz(); ++p) values_[map[p]] = a.values[p];
+  // H + eps diag(H), and the zero-pivot thresholds relative to that diagonal.
+  double largest = 0;
+  for (int k = 0; k < s.num_pivots(); ++k) {
+    const int d = s.size(k);
+    double* node = values_.data() + s.node_offset(k);
+    for (int l = 0; l < d; ++l) {
+      node[l * d + l] *= 1 + options.regularization;
+      diag_[s.row_start(k) + l] = std::abs(node[l * d + l]);
+      largest = std::max(largest, diag_[s.row_start(k) + l]);
+    }
+  }
+  for (int i = 0; i < s.num_rows(); ++i) floor_[i] = options.zero_pivot * (diag_[i] > 0 ? diag_[i] : largest);
+}
+
+FactorInfo Numeric::factorize(const SymmetricCsc& a, const FactorOptions& options) {
+  const Symbolic& s = *symbolic_;
+  info_ = FactorInfo{};
+  info_.min_pivot_ratio = s.num_rows() ? std::numeric_limits<double>::infinity() : 0;
+  // A NaN or infinity in the input is the input's fault: name the entry's block and row.
+  for (int c = 0; c < a.n; ++c)
+    for (int p = a.col_ptr[c]; p < a.col_ptr[c + 1]; ++p)
+      if (!std::isfinite(a.values[p])) {
+        info_.status = FactorStatus::not_finite;
+        info_.row = a.row_idx[p];
+        info_.pivot = a.values[p];
+        const auto perm = s.perm();
+        for (int k = 0; k < s.num_pivots(); ++k)
+          for (int l = 0; l < s.size(k); ++l)
+            if (perm[s.row_start(k) + l] == info_.row) info_.block = s.block(k);
+        return info_;
+      }
+  load(a, options);
+  double* v = values_.data();
+  for (int k = 0; k < s.num_pivots(); ++k) {
+    const int d = s.size(k), h = s.height(k);
+    double* node = v + s.node_offset(k);
+    double* e = node + d * d;
+    const double* floor = floor_.data() + s.row_start(k);
+    int bad = -1;
+    kernels::dispatch_size(d, [&](auto size) {
+      constexpr int N = decltype(size)::value;
+      bad = kernels::ldl_node<N>(node, floor, d);
+      if (bad >= 0) return;
+      kernels::compute_l<N>(scratch_.data(), node, e, h, d);
+      kernels::reduce<N>(v, e, scratch_.data(), s.rsi(k), h, d);
+      std::memcpy(e, scratch_.data(), sizeof(double) * h * d);
+    });
+    const int count = bad >= 0 ? bad + 1 : d;
+    for (int l = 0; l < count; ++l) {
+      const double pivot = node[l * d + l];
+      const int row = s.row_start(k) + l;
+      if (l == bad) {
+        ++info_.inertia.zero;
+        info_.status = std::isfinite(pivot) ? FactorStatus::zero_pivot : FactorStatus::not_finite;
+      } else if (pivot > 0) {
+        ++info_.inertia.positive;
+      } else {
+        ++info_.inertia.negative;
+      }
+      if (diag_[row] > 0) info_.min_pivot_ratio = std::min(info_.min_pivot_ratio, std::abs(pivot) / diag_[row]);
+      if (l == bad || (pivot < 0 && info_.status == FactorStatus::ok)) {
+        if (l != bad) info_.status = FactorStatus::indefinite;
+        info_.block = s.block(k);
+        info_.row = s.perm()[row];
+        info_.pivot = pivot;
+      }
+    }
+    if (bad >= 0) break;
+  }
+  if (!std::isfinite(info_.min_pivot_ratio)) info_.min_pivot_ratio = 0;
+  return info_;
+}
+
+void Numeric::solve(double* b, int nrhs, int ld) {
+  const Symbolic& s = *symbolic_;
+  assert(info_.usable());
+  const int n = s.num_rows();
+  if (ld == 0) ld = n;
+  assert(ld >= n);
+  const std::span<const int> perm = s.perm();
+  const double* v = values_.data();
+  double* w = work_.data();
+  for (int j = 0; j < nrhs; ++j) {
+    double* x = b + static_cast<int64_t>(j) * ld;
+    for (int i = 0; i < n; ++i) w[i] = x[perm[i]];
+    // L z = b column by column (z_k is final once the earlier columns are applied), then
+    // N_k^-1 z_k, which no later column reads.
+    for (int k = 0; k < s.num_pivots(); ++k) {
+      const int d = s.size(k);
+      double* wk = w + s.row_start(k);
+      kernels::dispatch_size(d, [&](auto size) {
+        constexpr int N = decltype(size)::value;
+        kernels::forward_column<N>(w, wk, v + s.column_offset(k), s.column_rows(k), s.height(k), d);
+        kernels::solve_node<N>(v + s.node_offset(k), wk, d);
+      });
+    }
+    // L^T x = y in reverse pivot order.
+    for (int k = s.num_pivots() - 1; k >= 0; --k) {
+      const int d = s.size(k);
+      kernels::dispatch_size(d, [&](auto size) {
+        constexpr int N = decltype(size)::value;
+        kernels::backward_column<N>(w, w + s.row_start(k), v + s.column_offset(k), s.column_rows(k), s.height(k), d);
+      });
+    }
+    for (int i = 0; i < n; ++i) x[perm[i]] = w[i];
+  }
+}
+
+SymmetricCsc Numeric::scalar_ldl() const {
+  const Symbolic& s = *symbolic_;
+  SymmetricCsc l;
+  l.n = s.num_rows();
+  l.col_ptr.assign(1, 0);
+  const double* v = values_.data();
+  for (int k = 0; k < s.num_pivots(); ++k) {
+    const int d = s.size(k), h = s.height(k);
+    const double* node = v + s.node_offset(k);
+    const double* lb = v + s.column_offset(k);
+    const int* rows = s.column_rows(k);
+    for (int c = 0; c < d; ++c) {
+      l.row_idx.push_back(s.row_start(k) + c);
+      l.values.push_back(node[c * d + c]);
+      for (int r = c + 1; r < d; ++r) {
+        l.row_idx.push_back(s.row_start(k) + r);
+        l.values.push_back(node[r * d + c]);
+      }
+      // Row r of the scalar L below the node: (L_{*,k} L_kk)[r][c], L_kk unit lower.
+      for (int r = 0; r < h; ++r) {
+        double sum = lb[r * d + c];
+        for (int m = c + 1; m < d; ++m) sum += lb[r * d + m] * node[m * d + c];
+        l.row_idx.push_back(rows[r]);
+        l.values.push_back(sum);
+      }
+      l.col_ptr.push_back(static_cast<int>(l.row_idx.size()));
+    }
+  }
+  return l;
+}
+
+}  // namespace ldlpgs

@@ -1,0 +1,83 @@
+#pragma once
+// The numeric phase of the block LDL^T (the talk: every frame). Takes a Symbolic and cannot
+// change its structure; all memory is allocated by the constructor, none by factorize or solve.
+//
+// Factorization, per pivot k in order (the talk's block Gaussian elimination):
+//   N_k = L_kk D_k L_kk^T in place; L_{*,k} = E_{*,k} N_k^-1 into a scratch buffer;
+//   S -= E_{*,k} L_{*,k}^T through the RSI; E_{*,k} <- L_{*,k}.
+// The result is H = L N L^T with L block unit-lower and N = blockdiag(N_k), each N_k kept as its
+// own L_kk D_k L_kk^T. The scalar LDL^T (CHOLMOD's) is L_scalar = L blockdiag(L_kk), D = D_k.
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "factor/symbolic.h"
+#include "sparse/csc.h"
+
+namespace ldlpgs {
+
+struct FactorOptions {
+  // The talk's compliance: factor H + eps diag(H). 0 factors H exactly.
+  double regularization = 0;
+  // A pivot d of scalar row r counts as zero when |d| <= zero_pivot * |H_rr| (H regularized; the
+  // largest |H_ii| when H_rr = 0): at 1e-12 the pivot has lost all but four digits to
+  // cancellation, and a solve through it would be noise.
+  double zero_pivot = 1e-12;
+};
+
+enum class FactorStatus {
+  ok,           // all pivots positive: H is positive definite
+  indefinite,   // completed, some pivots negative (the first is named): H = L D L^T still holds
+  zero_pivot,   // stopped at a zero pivot (singular H: e.g. redundant constraints, no compliance)
+  not_finite,   // stopped at a NaN or infinite value (in the input or a pivot)
+};
+const char* to_string(FactorStatus status);
+
+struct Inertia {
+  int positive = 0, negative = 0, zero = 0;  // pivots counted so far (all of them when completed)
+};
+
+struct FactorInfo {
+  FactorStatus status = FactorStatus::ok;
+  int block = -1;   // original block of the first failing (or, if indefinite, negative) pivot
+  int row = -1;     // its original scalar row
+  double pivot = 0; // its value (for not_finite caused by the input: the offending entry)
+  Inertia inertia;
+  double min_pivot_ratio = 0;  // min over pivots of |d_r| / |H_rr|: near 0 means nearly singular
+  bool usable() const { return status == FactorStatus::ok || status == FactorStatus::indefinite; }
+  std::string message() const;  // one line naming the status, block, row and pivot
+};
+
+class Numeric {
+ public:
+  explicit Numeric(const Symbolic& symbolic);  // the symbolic object must outlive this one
+
+  // Loads a (same pattern as the symbolic phase's) and factors it.
+  FactorInfo factorize(const SymmetricCsc& a, const FactorOptions& options = {});
+  const FactorInfo& info() const { return info_; }
+
+  // x = H^-1 b in place, b in the original row order; `nrhs` columns of length n, column-major
+  // with leading dimension ld >= n. Requires a usable factorization.
+  void solve(double* b, int nrhs = 1, int ld = 0);
+  void solve(std::span<double> b) { solve(b.data(), 1, static_cast<int>(b.size())); }
+
+  // The factor expanded to CHOLMOD's scalar convention for the permuted matrix P H P^T
+  // (perm = symbolic().perm()): strictly-lower unit L with D on the diagonal, every block dense.
+  SymmetricCsc scalar_ldl() const;
+
+  const Symbolic& symbolic() const { return *symbolic_; }
+  std::span<const double> values() const { return values_; }
+
+ private:
+  void load(const SymmetricCsc& a, const FactorOptions& options);
+  const Symbolic* symbolic_;
+  std::vector<double> values_;   // packed blocks (size symbolic.num_values())
+  std::vector<double> scratch_;  // L_{*,k} before it replaces E (size symbolic.scratch_size())
+  std::vector<double> floor_;    // zero-pivot threshold per permuted row (size n)
+  std::vector<double> diag_;     // |H_rr| regularized, per permuted row (size n)
+  std::vector<double> work_;     // permuted right-hand side (size n)
+  FactorInfo info_;
+};
+
+}  // namespace ldlpgs

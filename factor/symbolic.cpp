@@ -1,0 +1,183 @@
+// Symbolic phase: the block structure of L (ordering/elimination_graph.h plays the elimination
+// game), then the packed layout, the RSI and the load map (symbolic.h).
+#include "factor/symbolic.h"
+
+#include <algorithm>
+#include <cassert>
+#include <limits>
+#include <string>
+
+#include "ordering/elimination_graph.h"
+#include "sparse/error.h"
+
+namespace ldlpgs {
+
+namespace {
+
+// For one column jb: marks, for every pivot j with an edge block in column jb, the first row of
+// that block inside E_{*,jb} (-1 elsewhere). Reset by unmark.
+void mark_column(const std::vector<int>& edge_ptr, const std::vector<int>& edge_pivot,
+                 const std::vector<int>& edge_row, int jb, std::vector<int>& mark) {
+  for (int e = edge_ptr[jb]; e < edge_ptr[jb + 1]; ++e) mark[edge_pivot[e]] = edge_row[e];
+}
+void unmark_column(const std::vector<int>& edge_ptr, const std::vector<int>& edge_pivot, int jb,
+                   std::vector<int>& mark) {
+  for (int e = edge_ptr[jb]; e < edge_ptr[jb + 1]; ++e) mark[edge_pivot[e]] = -1;
+}
+
+}  // namespace
+
+Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, const Ordering& ordering) {
+  if (ordering.level == Level::scalar) return analyze(pattern, BlockPattern::unit(pattern), ordering.pivots);
+  return analyze(pattern, blocks, ordering.pivots);
+}
+
+Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, std::span<const int> pivots) {
+  assert(blocks.num_rows() == pattern.n);
+  assert(static_cast<int>(pivots.size()) == blocks.num_blocks());
+  Symbolic s;
+  const int np = blocks.num_blocks();
+  s.n_ = pattern.n;
+  std::vector<int> pos(np, -1);  // pivot position of each block (size np)
+  for (int k = 0; k < np; ++k) {
+    assert(pos[pivots[k]] == -1);
+    pos[pivots[k]] = k;
+  }
+  const Elimination elim = eliminate(blocks, pivots);
+  s.block_.assign(pivots.begin(), pivots.end());
+  s.size_.resize(np);
+  s.row_start_.assign(np + 1, 0);
+  for (int k = 0; k < np; ++k) {
+    s.size_[k] = blocks.block(pivots[k]).size;
+    s.row_start_[k + 1] = s.row_start_[k] + s.size_[k];
+  }
+  s.perm_.reserve(pattern.n);
+  for (int k = 0; k < np; ++k)
+    for (int l = 0; l < s.size_[k]; ++l) s.perm_.push_back(blocks.block(pivots[k]).position + l);
+
+  // Column heights, edge rows within their column, and the layout.
+  s.edge_ptr_ = elim.ptr;
+  s.edge_pivot_ = elim.edges;
+  s.edge_fill_ = elim.fill;
+  s.num_fill_ = elim.fill_edges;
+  std::vector<int> edge_row(s.edge_pivot_.size());  // first row of each edge block in its E (size num_edges)
+  s.height_.assign(np, 0);
+  s.node_offset_.assign(np + 1, 0);
+  s.l_rows_ptr_.assign(np + 1, 0);
+  for (int k = 0; k < np; ++k) {
+    int h = 0;
+    for (int e = s.edge_ptr_[k]; e < s.edge_ptr_[k + 1]; ++e) {
+      edge_row[e] = h;
+      h += s.size_[s.edge_pivot_[e]];
+    }
+    const int64_t d = s.size_[k];
+    s.height_[k] = h;
+    s.node_offset_[k + 1] = s.node_offset_[k] + d * d + int64_t{h} * d;
+    s.l_rows_ptr_[k + 1] = s.l_rows_ptr_[k] + h;
+    s.nnz_l_ += d * (d + 1) / 2 + int64_t{h} * d;
+    s.flops_ += static_cast<double>(d * (d + 1) * (2 * d + 1) / 6 + int64_t{h} * d * (d + 1) + d * h * h);
+    s.scratch_size_ = std::max(s.scratch_size_, int64_t{h} * d);
+  }
+  if (s.num_values() > std::numeric_limits<int32_t>::max())
+    throw InputError("the factor needs " + std::to_string(s.num_values()) +
+                     " values, more than the 32-bit reduction-scattering indices address");
+  s.l_rows_.reserve(s.l_rows_ptr_[np]);
+  for (int k = 0; k < np; ++k)
+    for (int j : s.edges(k))
+      for (int l = 0; l < s.size_[j]; ++l) s.l_rows_.push_back(s.row_start_[j] + l);
+
+  // RSI: the product of rows i >= c of E_{*,k} and L_{*,k} lands in S at (row i, row c). Rows in
+  // one block jb land in its node block (lower triangle); rows of blocks ja > jb land in the edge
+  // block (ja, jb) of column jb, which the elimination game guarantees exists.
+  s.rsi_ptr_.assign(np + 1, 0);
+  for (int k = 0; k < np; ++k) s.rsi_ptr_[k + 1] = s.rsi_ptr_[k] + int64_t{s.height_[k]} * (s.height_[k] + 1) / 2;
+  s.rsi_.resize(s.rsi_ptr_[np]);
+  std::vector<int> mark(np, -1);   // row of an edge block in the marked column (size np)
+  std::vector<int> row_edge, row_local;  // per row of E_{*,k}: its edge (index in the column), row in it
+  std::vector<int> pair_row;        // edges a >= b of column k: row of edge a's block in column b's E
+  for (int k = 0; k < np; ++k) {
+    const std::span<const int> col = s.edges(k);
+    const int m = static_cast<int>(col.size());
+    pair_row.assign(static_cast<size_t>(m) * m, -1);
+    for (int b = 0; b < m; ++b) {
+      mark_column(s.edge_ptr_, s.edge_pivot_, edge_row, col[b], mark);
+      for (int a = b + 1; a < m; ++a) {
+        assert(mark[col[a]] >= 0 && "the elimination game left out a fill block");
+        pair_row[a * m + b] = mark[col[a]];
+      }
+      unmark_column(s.edge_ptr_, s.edge_pivot_, col[b], mark);
+    }
+    row_edge.clear();
+    row_local.clear();
+    for (int a = 0; a < m; ++a)
+      for (int l = 0; l < s.size_[col[a]]; ++l) {
+        row_edge.push_back(a);
+        row_local.push_back(l);
+      }
+    // The talk's loop order: for i < h, for c <= i.
+    int32_t* out = s.rsi_.data() + s.rsi_ptr_[k];
+    for (int i = 0; i < s.height_[k]; ++i) {
+      const int a = row_edge[i], la = row_local[i];
+      for (int c = 0; c <= i; ++c) {
+        const int b = row_edge[c], lb = row_local[c];
+        const int jb = col[b];
+        const int64_t db = s.size_[jb];
+        const int64_t target = a == b ? s.node_offset_[jb] + la * db + lb
+                                      : s.column_offset(jb) + (pair_row[a * m + b] + la) * db + lb;
+        *out++ = static_cast<int32_t>(target);
+      }
+    }
+  }
+
+  // Load map: entry (r, c) of the lower triangle, r in block br, c in block bc. Same block: the
+  // node block's lower triangle. Otherwise the entry or its transpose lies in the edge block of
+  // the later pivot in the column of the earlier one. Entries are bucketed by that column so each
+  // column is marked once.
+  const std::vector<int> block_of_row = blocks.block_of_row();
+  s.load_map_.assign(pattern.nnz(), -1);
+  std::vector<int64_t> bucket_ptr(np + 1, 0);  // (size np+1)
+  std::vector<int64_t> bucket;                 // pattern entries by column of L (size nnz)
+  auto entry_column = [&](int r, int c) { return std::min(pos[block_of_row[r]], pos[block_of_row[c]]); };
+  for (int c = 0; c < pattern.n; ++c)
+    for (int p = pattern.col_ptr[c]; p < pattern.col_ptr[c + 1]; ++p) ++bucket_ptr[entry_column(pattern.row_idx[p], c) + 1];
+  for (int k = 0; k < np; ++k) bucket_ptr[k + 1] += bucket_ptr[k];
+  bucket.resize(pattern.nnz());
+  {
+    std::vector<int64_t> next(bucket_ptr.begin(), bucket_ptr.end() - 1);
+    for (int c = 0; c < pattern.n; ++c)
+      for (int p = pattern.col_ptr[c]; p < pattern.col_ptr[c + 1]; ++p) bucket[next[entry_column(pattern.row_idx[p], c)]++] = p;
+  }
+  std::vector<int> col_of_entry(pattern.nnz());  // column c of each stored entry (size nnz)
+  for (int c = 0; c < pattern.n; ++c)
+    for (int p = pattern.col_ptr[c]; p < pattern.col_ptr[c + 1]; ++p) col_of_entry[p] = c;
+  for (int k = 0; k < np; ++k) {
+    mark_column(s.edge_ptr_, s.edge_pivot_, edge_row, k, mark);
+    for (int64_t q = bucket_ptr[k]; q < bucket_ptr[k + 1]; ++q) {
+      const int64_t p = bucket[q];
+      const int r = pattern.row_idx[p], c = col_of_entry[p];
+      const int br = block_of_row[r], bc = block_of_row[c];
+      const int lr = r - blocks.block(br).position, lc = c - blocks.block(bc).position;
+      if (br == bc) {
+        s.load_map_[p] = s.node_offset_[k] + int64_t{std::max(lr, lc)} * s.size_[k] + std::min(lr, lc);
+        continue;
+      }
+      // The later of the two blocks gives the row of L, the earlier (pivot k) the column.
+      const bool row_is_r = pos[br] > pos[bc];
+      const int later = row_is_r ? pos[br] : pos[bc];
+      const int lrow = row_is_r ? lr : lc, lcol = row_is_r ? lc : lr;
+      assert(mark[later] >= 0 && "an entry outside the block pattern");
+      s.load_map_[p] = s.column_offset(k) + int64_t{mark[later] + lrow} * s.size_[k] + lcol;
+    }
+    unmark_column(s.edge_ptr_, s.edge_pivot_, k, mark);
+  }
+  return s;
+}
+
+int64_t Symbolic::memory_bytes() const {
+  auto bytes = [](const auto& v) { return static_cast<int64_t>(v.size() * sizeof(v[0])); };
+  return bytes(block_) + bytes(size_) + bytes(row_start_) + bytes(height_) + bytes(node_offset_) +
+         bytes(edge_ptr_) + bytes(edge_pivot_) + bytes(edge_fill_) + bytes(l_rows_ptr_) + bytes(l_rows_) +
+         bytes(rsi_ptr_) + bytes(rsi_) + bytes(load_map_) + bytes(perm_);
+}
+
+}  // namespace ldlpgs

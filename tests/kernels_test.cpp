@@ -1,0 +1,112 @@
+// The kernels of factor/kernels.h against dense Eigen, for every unrolled size 1..6 and the
+// generic path (7, 12), through the same switch the numeric phase uses.
+#include "factor/kernels.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <vector>
+
+namespace ldlpgs {
+namespace {
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// A random SPD d x d matrix with condition number in the tens.
+RowMatrix random_spd(int d, int seed) {
+  std::srand(seed);
+  const Eigen::MatrixXd b = Eigen::MatrixXd::Random(d, d);
+  return b * b.transpose() + d * Eigen::MatrixXd::Identity(d, d);
+}
+
+class Kernels : public ::testing::TestWithParam<int> {};
+
+TEST_P(Kernels, LdlNodeReconstructsTheBlock) {
+  const int d = GetParam();
+  const RowMatrix n = random_spd(d, d);
+  RowMatrix f = n;
+  const std::vector<double> floor(d, 0.0);
+  int bad = 0;
+  kernels::dispatch_size(d, [&](auto size) { bad = kernels::ldl_node<decltype(size)::value>(f.data(), floor.data(), d); });
+  ASSERT_EQ(bad, -1);
+  Eigen::MatrixXd l = Eigen::MatrixXd::Identity(d, d);
+  l.triangularView<Eigen::StrictlyLower>() = f.triangularView<Eigen::StrictlyLower>();
+  const Eigen::MatrixXd dd = f.diagonal().asDiagonal();
+  EXPECT_LT((l * dd * l.transpose() - Eigen::MatrixXd(n)).norm(), 1e-13 * n.norm());
+}
+
+TEST_P(Kernels, ComputeLSolvesAgainstTheNodeBlock) {
+  const int d = GetParam(), h = 2 * d + 1;
+  const RowMatrix n = random_spd(d, 100 + d);
+  const RowMatrix e = RowMatrix::Random(h, d);
+  RowMatrix f = n, l(h, d);
+  const std::vector<double> floor(d, 0.0);
+  kernels::dispatch_size(d, [&](auto size) {
+    constexpr int N = decltype(size)::value;
+    kernels::ldl_node<N>(f.data(), floor.data(), d);
+    kernels::compute_l<N>(l.data(), f.data(), e.data(), h, d);
+  });
+  const Eigen::MatrixXd expected = Eigen::MatrixXd(e) * Eigen::MatrixXd(n).inverse();
+  EXPECT_LT((Eigen::MatrixXd(l) - expected).norm(), 1e-12 * expected.norm());
+}
+
+TEST_P(Kernels, ReduceScattersTheLowerTriangleOfELt) {
+  const int d = GetParam(), h = 5;
+  const RowMatrix e = RowMatrix::Random(h, d), l = RowMatrix::Random(h, d);
+  // Scatter the product (i, c), c <= i, to values[h * i + c] of a dense h x h matrix.
+  std::vector<int32_t> rsi;
+  for (int i = 0; i < h; ++i)
+    for (int c = 0; c <= i; ++c) rsi.push_back(h * i + c);
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> s = RowMatrix::Zero(h, h);
+  kernels::dispatch_size(d, [&](auto size) {
+    kernels::reduce<decltype(size)::value>(s.data(), e.data(), l.data(), rsi.data(), h, d);
+  });
+  const Eigen::MatrixXd expected = -Eigen::MatrixXd(e) * Eigen::MatrixXd(l).transpose();
+  for (int i = 0; i < h; ++i)
+    for (int c = 0; c < h; ++c) EXPECT_NEAR(s(i, c), c <= i ? expected(i, c) : 0.0, 1e-14) << i << "," << c;
+}
+
+TEST_P(Kernels, ZeroAndNonFinitePivotsStopTheBlock) {
+  const int d = GetParam();
+  RowMatrix n = random_spd(d, 7);
+  // Row and column d-1 a copy of row 0: the last pivot is zero up to rounding.
+  if (d > 1) {
+    n.row(d - 1) = n.row(0);
+    n.col(d - 1) = n.col(0);
+  } else {
+    n(0, 0) = 0;
+  }
+  const std::vector<double> floor(d, 1e-12 * n.diagonal().cwiseAbs().maxCoeff());
+  RowMatrix f = n;
+  int bad = 0;
+  kernels::dispatch_size(d, [&](auto size) { bad = kernels::ldl_node<decltype(size)::value>(f.data(), floor.data(), d); });
+  EXPECT_EQ(bad, d - 1);
+  f = n;
+  f(0, 0) = std::numeric_limits<double>::quiet_NaN();
+  kernels::dispatch_size(d, [&](auto size) { bad = kernels::ldl_node<decltype(size)::value>(f.data(), floor.data(), d); });
+  EXPECT_EQ(bad, 0);
+}
+
+TEST_P(Kernels, ColumnSubstitutionsMatchDenseProducts) {
+  const int d = GetParam(), h = 4;
+  const RowMatrix l = RowMatrix::Random(h, d);
+  const std::vector<int> rows = {d, d + 2, d + 3, d + 5};  // rows of y below the pivot's d rows
+  Eigen::VectorXd y = Eigen::VectorXd::Random(d + 6), y0 = y;
+  kernels::dispatch_size(d, [&](auto size) {
+    kernels::forward_column<decltype(size)::value>(y.data(), y.data(), l.data(), rows.data(), h, d);
+  });
+  for (int r = 0; r < h; ++r) EXPECT_NEAR(y(rows[r]), y0(rows[r]) - l.row(r).dot(y0.head(d)), 1e-14);
+  y0 = y;
+  kernels::dispatch_size(d, [&](auto size) {
+    kernels::backward_column<decltype(size)::value>(y.data(), y.data(), l.data(), rows.data(), h, d);
+  });
+  Eigen::VectorXd yr(h);
+  for (int r = 0; r < h; ++r) yr(r) = y0(rows[r]);
+  const Eigen::VectorXd expected = y0.head(d) - Eigen::MatrixXd(l).transpose() * yr;
+  EXPECT_LT((y.head(d) - expected).norm(), 1e-14 * (1 + expected.norm()));
+}
+
+INSTANTIATE_TEST_SUITE_P(Sizes, Kernels, ::testing::Values(1, 2, 3, 4, 5, 6, 7, 12));
+
+}  // namespace
+}  // namespace ldlpgs

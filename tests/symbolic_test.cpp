@@ -1,0 +1,122 @@
+// The symbolic phase: its counts against CHOLMOD's analysis of the dense-block matrix, and every
+// reduction-scattering index and load-map entry against the (row, column) it must address,
+// recovered independently from the layout's definition (column-major blocks, row-major inside).
+#include "factor/symbolic.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+
+#include "sparse/cholmod_adapter.h"
+#include "sparse/families.h"
+#include "sparse/partition.h"
+#include "tests/test_matrices.h"
+
+namespace ldlpgs {
+namespace {
+
+using Coordinates = std::vector<std::pair<int, int>>;  // per value: (row, column) in P H P^T
+
+// The permuted scalar position of every value of the layout, lower triangle of node blocks only
+// (upper entries of node blocks are (-1, -1): nothing may land there).
+Coordinates coordinates(const Symbolic& s) {
+  Coordinates at(s.num_values(), {-1, -1});
+  for (int k = 0; k < s.num_pivots(); ++k) {
+    const int d = s.size(k), r0 = s.row_start(k);
+    for (int r = 0; r < d; ++r)
+      for (int c = 0; c <= r; ++c) at[s.node_offset(k) + r * d + c] = {r0 + r, r0 + c};
+    int row = 0;
+    for (int j : s.edges(k))
+      for (int l = 0; l < s.size(j); ++l, ++row)
+        for (int c = 0; c < d; ++c) at[s.column_offset(k) + row * d + c] = {s.row_start(j) + l, r0 + c};
+  }
+  return at;
+}
+
+void expect_consistent(const SymmetricCsc& a, const BlockPattern& blocks, const std::vector<int>& pivots) {
+  const Symbolic s = Symbolic::analyze(a, blocks, pivots);
+  ASSERT_EQ(s.num_pivots(), blocks.num_blocks());
+  const Coordinates at = coordinates(s);
+  // Counts: CHOLMOD's analysis of the matrix with dense blocks, same scalar order.
+  Cholmod cm;
+  const CholmodCounts counts = cholmod_counts(blocks.expand(), s.perm(), cm);
+  EXPECT_EQ(s.nnz_l(), static_cast<int64_t>(counts.lnz));
+  EXPECT_EQ(s.flops(), counts.fl);
+  // RSI: pair (i, c) of pivot k addresses (rows[i], rows[c]) (so no value twice per pivot).
+  for (int k = 0; k < s.num_pivots(); ++k) {
+    const int* rows = s.column_rows(k);
+    const int32_t* rsi = s.rsi(k);
+    for (int i = 0; i < s.height(k); ++i)
+      for (int c = 0; c <= i; ++c, ++rsi)
+        ASSERT_EQ(at[*rsi], std::make_pair(rows[i], rows[c])) << "pivot " << k << " pair " << i << "," << c;
+  }
+  // Load map: stored entry (r, c) lands at its permuted position, lower triangle.
+  std::vector<int> inverse(a.n);
+  for (int i = 0; i < a.n; ++i) inverse[s.perm()[i]] = i;
+  std::set<int64_t> targets;
+  for (int c = 0; c < a.n; ++c)
+    for (int p = a.col_ptr[c]; p < a.col_ptr[c + 1]; ++p) {
+      const int pr = inverse[a.row_idx[p]], pc = inverse[c];
+      ASSERT_EQ(at[s.load_map()[p]], std::make_pair(std::max(pr, pc), std::min(pr, pc)));
+      ASSERT_TRUE(targets.insert(s.load_map()[p]).second);
+    }
+  EXPECT_GT(s.memory_bytes(), 0);
+}
+
+TEST(Symbolic, LayoutRsiAndLoadMapOnTestMatrices) {
+  for (const auto& m : testing::test_matrices()) {
+    if (m.a.n > 1200) continue;  // bcsstk13 and bcspwr06: the coordinate check is quadratic in memory
+    SCOPED_TRACE(m.name);
+    const BlockPattern blocks = BlockPattern::from_scalar(m.a, partition_auto(m.a));
+    for (const char* name : {"mda", "meca-w", "amd"})
+      expect_consistent(m.a, blocks, compute_ordering(find_ordering(name), blocks, m.a).pivots);
+  }
+}
+
+TEST(Symbolic, LayoutRsiAndLoadMapOnMechanisms) {
+  for (std::string_view family : family_names()) {
+    SCOPED_TRACE(family);
+    const BlockPattern blocks = constraint_graph(make_family(family, 60));
+    const SymmetricCsc a = blocks.expand();
+    for (const char* name : {"natural", "mda", "meca", "metis"})
+      expect_consistent(a, blocks, compute_ordering(find_ordering(name), blocks, a).pivots);
+  }
+}
+
+TEST(Symbolic, ColumnsArePackedInPivotOrder) {
+  const BlockPattern blocks = constraint_graph(make_family("ladder", 40));
+  const SymmetricCsc a = blocks.expand();
+  const Symbolic s = Symbolic::analyze(a, blocks, compute_ordering(find_ordering("meca"), blocks, a));
+  int64_t offset = 0;
+  for (int k = 0; k < s.num_pivots(); ++k) {
+    EXPECT_EQ(s.node_offset(k), offset);
+    offset += int64_t{s.size(k)} * (s.size(k) + s.height(k));
+    int h = 0;
+    for (int j : s.edges(k)) {
+      EXPECT_GT(j, k);
+      h += s.size(j);
+    }
+    EXPECT_EQ(h, s.height(k));
+  }
+  EXPECT_EQ(offset, s.num_values());
+}
+
+TEST(Symbolic, ScalarOrderingsFactorWithUnitBlocks) {
+  const SymmetricCsc& a = testing::test_matrices().front().a;
+  const BlockPattern blocks = BlockPattern::from_scalar(a, partition_uniform(a.n, 2));
+  const Symbolic s = Symbolic::analyze(a, blocks, compute_ordering(find_ordering("amd-scalar"), blocks, a));
+  EXPECT_EQ(s.num_pivots(), a.n);
+  for (int k = 0; k < s.num_pivots(); ++k) EXPECT_EQ(s.size(k), 1);
+}
+
+TEST(Symbolic, EmptyMatrix) {
+  const SymmetricCsc a{0, {0}, {}, {}};
+  const BlockPattern blocks = BlockPattern::from_scalar(a, {});
+  const Symbolic s = Symbolic::analyze(a, blocks, std::vector<int>{});
+  EXPECT_EQ(s.num_pivots(), 0);
+  EXPECT_EQ(s.num_values(), 0);
+}
+
+}  // namespace
+}  // namespace ldlpgs
