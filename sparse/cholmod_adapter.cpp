@@ -29,6 +29,16 @@ cholmod_sparse cholmod_view(const SymmetricCsc& a) {
   return s;
 }
 
+cholmod_dense cholmod_view(std::span<double> x) {
+  cholmod_dense d{};
+  d.nrow = d.d = d.nzmax = x.size();
+  d.ncol = 1;
+  d.x = x.data();
+  d.xtype = CHOLMOD_REAL;
+  d.dtype = CHOLMOD_DOUBLE;
+  return d;
+}
+
 SymmetricCsc from_cholmod(const cholmod_sparse& a, Cholmod& cm) {
   assert(a.nrow == a.ncol && a.xtype == CHOLMOD_REAL && a.itype == CHOLMOD_INT);
   (void)cm;
@@ -65,29 +75,122 @@ SymmetricCsc cholmod_read(const std::string& path, Cholmod& cm) {
   return a;
 }
 
+namespace {
+
+// For its lifetime, makes CHOLMOD analyze and factor in exactly the order given to
+// cholmod_analyze_p as a simplicial LDL^T, left as LDL^T, packed and monotonic; restores the
+// caller's settings at the end. Without it CHOLMOD silently tries its own orderings, postorders
+// the one given, builds a supernodal LL^T, or converts the factor when done (final_*): neither
+// the counts nor the factor would be those of this permutation in this convention.
+class GivenOrderLdl {
+ public:
+  explicit GivenOrderLdl(cholmod_common* c) : c_(c), saved_(read(*c)) {
+    write(*c, {.nmethods = 1,
+               .ordering = CHOLMOD_GIVEN,
+               .postorder = false,
+               .supernodal = CHOLMOD_SIMPLICIAL,
+               .final_asis = false,
+               .final_super = false,
+               .final_ll = false,
+               .final_pack = true,
+               .final_monotonic = true,
+               .final_resymbol = false});
+  }
+  ~GivenOrderLdl() { write(*c_, saved_); }
+  GivenOrderLdl(const GivenOrderLdl&) = delete;
+  GivenOrderLdl& operator=(const GivenOrderLdl&) = delete;
+
+ private:
+  struct Settings {
+    int nmethods, ordering, postorder, supernodal;
+    int final_asis, final_super, final_ll, final_pack, final_monotonic, final_resymbol;
+  };
+  static Settings read(const cholmod_common& c) {
+    return {c.nmethods,  c.method[0].ordering, c.postorder, c.supernodal,     c.final_asis,
+            c.final_super, c.final_ll,         c.final_pack, c.final_monotonic, c.final_resymbol};
+  }
+  static void write(cholmod_common& c, const Settings& s) {
+    c.nmethods = s.nmethods;
+    c.method[0].ordering = s.ordering;
+    c.postorder = s.postorder;
+    c.supernodal = s.supernodal;
+    c.final_asis = s.final_asis;
+    c.final_super = s.final_super;
+    c.final_ll = s.final_ll;
+    c.final_pack = s.final_pack;
+    c.final_monotonic = s.final_monotonic;
+    c.final_resymbol = s.final_resymbol;
+  }
+
+  cholmod_common* c_;
+  Settings saved_;
+};
+
+// cholmod_analyze_p of a under perm with the current settings; throws if CHOLMOD fails (out of
+// memory, or an invalid matrix), which is neither bad user input nor a numerical failure.
+cholmod_factor* analyze_given(cholmod_sparse& view, std::span<const int> perm, cholmod_common* c) {
+  std::vector<int> p(perm.begin(), perm.end());  // CHOLMOD takes a non-const pointer
+  cholmod_factor* factor = cholmod_analyze_p(&view, p.data(), nullptr, 0, c);
+  if (factor == nullptr || c->status != CHOLMOD_OK) {
+    cholmod_free_factor(&factor, c);
+    throw std::runtime_error("cholmod_analyze_p failed with status " + std::to_string(c->status));
+  }
+  return factor;
+}
+
+}  // namespace
+
 CholmodCounts cholmod_counts(const SymmetricCsc& a, std::span<const int> perm, Cholmod& cm) {
   assert(static_cast<int>(perm.size()) == a.n);
   cholmod_common* c = cm.common();
-  // Without these three settings CHOLMOD silently tries its own orderings, postorders the one
-  // given, or builds a supernodal LL^T: the counts would not be those of this permutation.
-  const int nmethods = c->nmethods, ordering = c->method[0].ordering, postorder = c->postorder,
-            supernodal = c->supernodal;
-  c->nmethods = 1;
-  c->method[0].ordering = CHOLMOD_GIVEN;
-  c->postorder = false;
-  c->supernodal = CHOLMOD_SIMPLICIAL;
+  const GivenOrderLdl settings(c);
   cholmod_sparse view = cholmod_view(a);
-  std::vector<int> p(perm.begin(), perm.end());
-  cholmod_factor* factor = cholmod_analyze_p(&view, p.data(), nullptr, 0, c);
-  CholmodCounts counts{c->lnz, c->fl};
-  const bool ok = factor != nullptr && c->status == CHOLMOD_OK;
+  cholmod_factor* factor = analyze_given(view, perm, c);
+  const CholmodCounts counts{c->lnz, c->fl};
   cholmod_free_factor(&factor, c);
-  c->nmethods = nmethods;
-  c->method[0].ordering = ordering;
-  c->postorder = postorder;
-  c->supernodal = supernodal;
-  if (!ok) throw std::runtime_error("cholmod_analyze_p failed with status " + std::to_string(c->status));
   return counts;
+}
+
+CholmodLdl cholmod_ldl(const SymmetricCsc& a, std::span<const int> perm, std::span<const double> b,
+                       Cholmod& cm) {
+  assert(static_cast<int>(perm.size()) == a.n);
+  assert(b.empty() || static_cast<int>(b.size()) == a.n);
+  cholmod_common* c = cm.common();
+  const GivenOrderLdl settings(c);
+  cholmod_sparse view = cholmod_view(a);
+  cholmod_factor* factor = analyze_given(view, perm, c);
+  // A zero pivot is a warning (status > 0) and leaves L numeric; only status < 0 (out of
+  // memory) leaves no factor to report.
+  cholmod_factorize(&view, factor, c);
+  CholmodLdl out{{}, {}, c->status, static_cast<int>(factor->minor)};
+  if (out.status < CHOLMOD_OK) {
+    cholmod_free_factor(&factor, c);
+    throw std::runtime_error("cholmod_factorize failed with status " + std::to_string(out.status));
+  }
+  if (!b.empty() && out.minor == a.n) {
+    // CHOLMOD_A applies P^T L^-T D^-1 L^-1 P, so x comes back in the original row order.
+    std::vector<double> rhs(b.begin(), b.end());
+    cholmod_dense bview = cholmod_view(std::span<double>(rhs));
+    cholmod_dense* x = cholmod_solve(CHOLMOD_A, factor, &bview, c);
+    if (x == nullptr) {
+      cholmod_free_factor(&factor, c);
+      throw std::runtime_error("cholmod_solve failed with status " + std::to_string(c->status));
+    }
+    const double* xs = static_cast<const double*>(x->x);
+    out.x.assign(xs, xs + a.n);
+    cholmod_free_dense(&x, c);
+  }
+  // cholmod_factor_to_sparse packs L and makes it monotonic but keeps its kind (it calls
+  // cholmod_change_factor with L->is_ll): an LDL^T stays LDL^T, with D on the diagonal, not
+  // sqrt(D). Its columns are sorted already (the row-by-row factorization appends row k to each
+  // column in increasing k). It hands L's arrays over and leaves the factor symbolic.
+  assert(!factor->is_ll && !factor->is_super);
+  cholmod_sparse* l = cholmod_factor_to_sparse(factor, c);
+  cholmod_free_factor(&factor, c);
+  if (l == nullptr) throw std::runtime_error("cholmod_factor_to_sparse failed with status " + std::to_string(c->status));
+  out.l = from_cholmod(*l, cm);
+  cholmod_free_sparse(&l, c);
+  return out;
 }
 
 }  // namespace ldlpgs

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 
 namespace ldlpgs {
 
@@ -78,6 +79,43 @@ Graph graph_of(const SymmetricCsc& a) {
     }
   }
   return graph_from_edges(a.n, edges);
+}
+
+void symmetric_multiply(const SymmetricCsc& a, std::span<const double> x, std::span<double> y) {
+  assert(static_cast<int>(x.size()) == a.n && static_cast<int>(y.size()) == a.n);
+  std::fill(y.begin(), y.end(), 0.0);
+  for (int j = 0; j < a.n; ++j) {
+    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) {
+      const int i = a.row_idx[p];
+      y[i] += a.values[p] * x[j];
+      if (i != j) y[j] += a.values[p] * x[i];
+    }
+  }
+}
+
+double norm_inf(const SymmetricCsc& a) {
+  std::vector<double> row_sum(a.n, 0.0);
+  for (int j = 0; j < a.n; ++j) {
+    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) {
+      const int i = a.row_idx[p];
+      row_sum[i] += std::abs(a.values[p]);
+      if (i != j) row_sum[j] += std::abs(a.values[p]);
+    }
+  }
+  return row_sum.empty() ? 0.0 : *std::max_element(row_sum.begin(), row_sum.end());
+}
+
+double backward_error(const SymmetricCsc& a, std::span<const double> x, std::span<const double> b) {
+  std::vector<double> r(a.n);
+  symmetric_multiply(a, x, r);
+  double rn = 0, xn = 0, bn = 0;
+  for (int i = 0; i < a.n; ++i) {
+    rn = std::max(rn, std::abs(r[i] - b[i]));
+    xn = std::max(xn, std::abs(x[i]));
+    bn = std::max(bn, std::abs(b[i]));
+  }
+  const double scale = norm_inf(a) * xn + bn;
+  return scale > 0 ? rn / scale : rn;
 }
 
 }  // namespace ldlpgs

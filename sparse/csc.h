@@ -47,4 +47,12 @@ Graph graph_from_edges(int n, std::span<const std::pair<int, int>> edges);
 // The graph of a symmetric matrix: an edge for every off-diagonal entry (explicit zeros count).
 Graph graph_of(const SymmetricCsc& a);
 
+// y = A x for the full symmetric A whose lower triangle a stores (sizes a.n).
+void symmetric_multiply(const SymmetricCsc& a, std::span<const double> x, std::span<double> y);
+// ||A||_inf of the full symmetric A: the largest absolute row sum.
+double norm_inf(const SymmetricCsc& a);
+// The normwise backward error of x for A x = b: ||A x - b||_inf / (||A||_inf ||x||_inf + ||b||_inf)
+// (Higham, Accuracy and Stability of Numerical Algorithms, 7.1); 0 for an empty system.
+double backward_error(const SymmetricCsc& a, std::span<const double> x, std::span<const double> b);
+
 }  // namespace ldlpgs

@@ -97,10 +97,13 @@ std::string lower(std::string_view s) {
 }
 
 // Quoted for messages, cut short so that a binary file cannot produce a huge message.
+// (Appending rather than "'" + string: GCC 12 at -O3 warns falsely on the latter, bug 105329.)
 std::string quoted(std::string_view s) {
   constexpr size_t kMax = 40;
-  if (s.size() > kMax) return "'" + std::string(s.substr(0, kMax)) + "...'";
-  return "'" + std::string(s) + "'";
+  std::string out = "'";
+  out += s.substr(0, kMax);
+  out += s.size() > kMax ? "...'" : "'";
+  return out;
 }
 
 // from_chars does not take the '+' sign that Fortran-written files sometimes carry.
@@ -141,7 +144,12 @@ std::string format(double v) {
 }
 
 std::string position(int64_t i, int64_t j) {
-  return "(" + std::to_string(i) + "," + std::to_string(j) + ")";
+  std::string out = "(";
+  out += std::to_string(i);
+  out += ",";
+  out += std::to_string(j);
+  out += ")";
+  return out;
 }
 
 enum class Field { real, integer, pattern };

@@ -1,14 +1,18 @@
 // The CHOLMOD adapter: cholmod_view read back by CHOLMOD itself (check, norms and a product
 // against dense Eigen); from_cholmod for stype -1, 0 and +1 copies made by CHOLMOD, for unpacked
 // columns with slack and for entries in the triangle the stype says to ignore; cholmod_read's
-// errors; and cholmod_counts against a dense symbolic elimination (the reference for the
-// orderings' metrics) under identity and random permutations.
+// errors; cholmod_counts against a dense symbolic elimination (the reference for the
+// orderings' metrics) under identity and random permutations; and cholmod_ldl (the reference for
+// factor/): L D L^T against P A P^T and x against A x = b on every test matrix, and CHOLMOD's
+// verdicts on negative and zero pivots, worked by hand.
 #include "sparse/cholmod_adapter.h"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCore>
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <random>
 #include <string>
@@ -16,6 +20,7 @@
 #include <vector>
 
 #include "sparse/block_pattern.h"
+#include "sparse/eigen_adapter.h"
 #include "sparse/error.h"
 #include "sparse/families.h"
 #include "sparse/matrix_market.h"
@@ -316,6 +321,189 @@ TEST(CholmodCounts, IgnoresAndRestoresCommonSettings) {
   EXPECT_EQ(again.lnz, plain.lnz);
   EXPECT_EQ(again.fl, plain.fl);
   EXPECT_EQ(again.lnz, symbolic_counts(a, perm).lnz);
+  EXPECT_EQ(c->supernodal, CHOLMOD_SUPERNODAL);
+  EXPECT_EQ(c->postorder, 1);
+  EXPECT_EQ(c->nmethods, 3);
+  EXPECT_EQ(c->method[0].ordering, CHOLMOD_AMD);
+}
+
+// --- cholmod_ldl ----------------------------------------------------------------------------
+
+// P A P^T, full, with (P A P^T)(k, l) = A(perm[k], perm[l]).
+Eigen::SparseMatrix<double> permuted(const SymmetricCsc& a, const std::vector<int>& perm) {
+  std::vector<int> inverse(a.n);
+  for (int k = 0; k < a.n; ++k) inverse[perm[k]] = k;
+  std::vector<Eigen::Triplet<double>> t;
+  for (int j = 0; j < a.n; ++j) {
+    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) {
+      const int r = inverse[a.row_idx[p]], c = inverse[j];
+      t.emplace_back(r, c, a.values[p]);
+      if (r != c) t.emplace_back(c, r, a.values[p]);
+    }
+  }
+  Eigen::SparseMatrix<double> m(a.n, a.n);
+  m.setFromTriplets(t.begin(), t.end());
+  return m;
+}
+
+// L D L^T from CHOLMOD's convention (the stored diagonal is D, L's unit diagonal implied),
+// multiplied out in sparse arithmetic: its cost is the factorization's flops, not n^3.
+Eigen::SparseMatrix<double> multiply_out(const SymmetricCsc& l) {
+  std::vector<Eigen::Triplet<double>> t;
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(l.n);
+  for (int j = 0; j < l.n; ++j) {
+    t.emplace_back(j, j, 1.0);
+    for (int p = l.col_ptr[j]; p < l.col_ptr[j + 1]; ++p) {
+      if (l.row_idx[p] == j) {
+        d[j] = l.values[p];
+      } else {
+        t.emplace_back(l.row_idx[p], j, l.values[p]);
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> unit(l.n, l.n);
+  unit.setFromTriplets(t.begin(), t.end());
+  const Eigen::SparseMatrix<double> ld = unit * d.asDiagonal();
+  return Eigen::SparseMatrix<double>(ld * unit.transpose());
+}
+
+double max_abs(const Eigen::SparseMatrix<double>& m) {
+  double largest = 0;
+  for (int j = 0; j < m.outerSize(); ++j) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(m, j); it; ++it) largest = std::max(largest, std::abs(it.value()));
+  }
+  return largest;
+}
+
+// ||A x - b||_inf / (||A||_inf ||x||_inf + ||b||_inf): the normwise backward error of x.
+double backward_error(const SymmetricCsc& a, const std::vector<double>& x, const std::vector<double>& b) {
+  const Eigen::SparseMatrix<double> full = to_eigen(a, Triangle::full);
+  const Eigen::Map<const Eigen::VectorXd> xm(x.data(), a.n), bm(b.data(), a.n);
+  double norm = 0;  // ||A||_inf, the largest absolute row sum (= column sum: A is symmetric)
+  for (int j = 0; j < a.n; ++j) norm = std::max(norm, full.col(j).cwiseAbs().sum());
+  const Eigen::VectorXd r = full * xm - bm;
+  return r.lpNorm<Eigen::Infinity>() / (norm * xm.lpNorm<Eigen::Infinity>() + bm.lpNorm<Eigen::Infinity>());
+}
+
+TEST(CholmodLdl, ReconstructsPapAndSolvesOnEveryTestMatrix) {
+  // Every test matrix is SPD: CHOLMOD must succeed in any order. Identity and reversed orders
+  // on all; a random order (whose fill can be near dense) on the smaller ones.
+  Cholmod cm;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (const auto& [name, a] : test_matrices()) {
+    std::vector<std::pair<std::string, std::vector<int>>> perms(1, {"identity", std::vector<int>(a.n)});
+    std::iota(perms[0].second.begin(), perms[0].second.end(), 0);
+    perms.push_back({"reversed", std::vector<int>(perms[0].second.rbegin(), perms[0].second.rend())});
+    if (a.n <= 500) {
+      perms.push_back({"random", perms[0].second});
+      std::shuffle(perms.back().second.begin(), perms.back().second.end(), rng);
+    }
+    for (const auto& [kind, perm] : perms) {
+      SCOPED_TRACE(name + ", " + kind + " order");
+      std::vector<double> b(a.n);
+      for (double& v : b) v = uniform(rng);
+      const CholmodLdl f = cholmod_ldl(a, perm, b, cm);
+      EXPECT_EQ(f.status, CHOLMOD_OK);
+      EXPECT_EQ(f.minor, a.n);
+      testing::expect_valid(f.l);
+      // Every column starts with its diagonal (D), and L has the entries CHOLMOD's analysis
+      // counted: the factor is complete and packed.
+      for (int j = 0; j < a.n; ++j) {
+        ASSERT_LT(f.l.col_ptr[j], f.l.col_ptr[j + 1]);
+        ASSERT_EQ(f.l.row_idx[f.l.col_ptr[j]], j);
+      }
+      EXPECT_EQ(static_cast<double>(f.l.nnz()), cholmod_counts(a, perm, cm).lnz);
+      const Eigen::SparseMatrix<double> pap = permuted(a, perm);
+      const Eigen::SparseMatrix<double> diff = multiply_out(f.l) - pap;
+      EXPECT_LE(max_abs(diff), 1e-12 * max_abs(pap)) << "L D L^T differs from P A P^T";
+      ASSERT_EQ(static_cast<int>(f.x.size()), a.n);
+      EXPECT_LT(backward_error(a, f.x, b), 1e-14);
+    }
+  }
+}
+
+TEST(CholmodLdl, DiagonalHoldsDNotItsSquareRoot) {
+  // [4 2; 2 5] = [1 0; 0.5 1] diag(4, 4) [1 0.5; 0 1]. An LL^T would store 2 and 2 on the
+  // diagonal and 1 below it.
+  const SymmetricCsc a = csc_from_triplets(2, std::vector<Triplet>{{0, 0, 4}, {1, 0, 2}, {1, 1, 5}});
+  Cholmod cm;
+  const CholmodLdl f = cholmod_ldl(a, std::vector<int>{0, 1}, std::vector<double>{}, cm);
+  EXPECT_EQ(f.l.values, (std::vector<double>{4, 0.5, 4}));
+  EXPECT_TRUE(f.x.empty());
+}
+
+TEST(CholmodLdl, NegativePivotIsAccepted) {
+  // [1 2; 2 1] = [1 0; 2 1] diag(1, -3) [1 2; 0 1]: indefinite, and CHOLMOD's LDL^T takes the
+  // negative pivot without complaint. b = (3, 3) gives x = (1, 1), exactly.
+  const SymmetricCsc a = csc_from_triplets(2, std::vector<Triplet>{{0, 0, 1}, {1, 0, 2}, {1, 1, 1}});
+  Cholmod cm;
+  const CholmodLdl f = cholmod_ldl(a, std::vector<int>{0, 1}, std::vector<double>{3, 3}, cm);
+  EXPECT_EQ(f.status, CHOLMOD_OK);
+  EXPECT_EQ(f.minor, 2);
+  EXPECT_EQ(f.l.col_ptr, (std::vector<int>{0, 2, 3}));
+  EXPECT_EQ(f.l.row_idx, (std::vector<int>{0, 1, 1}));
+  EXPECT_EQ(f.l.values, (std::vector<double>{1, 2, -3}));
+  EXPECT_EQ(f.x, (std::vector<double>{1, 1}));
+}
+
+TEST(CholmodLdl, ZeroPivotStopsAtThatColumn) {
+  // [1 1 0; 1 1 1; 0 1 2] is nonsingular (det -1) but its second pivot is 1 - 1*1 = 0 exactly.
+  // CHOLMOD reports the column and zeroes D and L from there on; no solution is given.
+  const SymmetricCsc a = csc_from_triplets(
+      3, std::vector<Triplet>{{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {2, 1, 1}, {2, 2, 2}});
+  Cholmod cm;
+  cm.common()->print = 0;  // CHOLMOD would print its "not positive definite" warning
+  const CholmodLdl f = cholmod_ldl(a, std::vector<int>{0, 1, 2}, std::vector<double>{1, 2, 3}, cm);
+  EXPECT_EQ(f.status, CHOLMOD_NOT_POSDEF);
+  EXPECT_EQ(f.minor, 1);
+  EXPECT_TRUE(f.x.empty());
+  EXPECT_EQ(f.l.col_ptr, (std::vector<int>{0, 2, 4, 5}));
+  EXPECT_EQ(f.l.row_idx, (std::vector<int>{0, 1, 1, 2, 2}));
+  EXPECT_EQ(f.l.values, (std::vector<double>{1, 1, 0, 0, 0}));
+}
+
+TEST(CholmodLdl, ZeroPivotColumnIsInThePermutedOrder) {
+  // [1 0 1; 0 5 0; 1 0 1] is singular: rows 0 and 2 are equal. In the natural order the zero
+  // pivot is the last one (1 - 1*1); eliminating row 2 second (perm 0, 2, 1) brings it to
+  // column 1 of P A P^T, and minor says 1.
+  const SymmetricCsc a = csc_from_triplets(
+      3, std::vector<Triplet>{{0, 0, 1}, {2, 0, 1}, {1, 1, 5}, {2, 2, 1}});
+  Cholmod cm;
+  cm.common()->print = 0;
+  const CholmodLdl natural = cholmod_ldl(a, std::vector<int>{0, 1, 2}, std::vector<double>{}, cm);
+  EXPECT_EQ(natural.status, CHOLMOD_NOT_POSDEF);
+  EXPECT_EQ(natural.minor, 2);
+  const CholmodLdl swapped = cholmod_ldl(a, std::vector<int>{0, 2, 1}, std::vector<double>{}, cm);
+  EXPECT_EQ(swapped.status, CHOLMOD_NOT_POSDEF);
+  EXPECT_EQ(swapped.minor, 1);
+  // D = (1, 0, 0): the 5 of the last column is lost, zeroed with everything after the minor.
+  EXPECT_EQ(swapped.l.values, (std::vector<double>{1, 1, 0, 0}));
+}
+
+TEST(CholmodLdl, IgnoresAndRestoresCommonSettings) {
+  // Settings that would change the factor if used (LL^T when done, supernodal, postordering,
+  // other orderings) must not change it, and must be left as they were.
+  const SymmetricCsc a = read("bcsstk01.mtx");
+  std::vector<int> perm(a.n);
+  std::iota(perm.rbegin(), perm.rend(), 0);
+  const std::vector<double> b(a.n, 1.0);
+  Cholmod cm;
+  cholmod_common* c = cm.common();
+  const CholmodLdl plain = cholmod_ldl(a, perm, b, cm);
+  c->final_asis = false;
+  c->final_ll = true;
+  c->final_super = true;
+  c->supernodal = CHOLMOD_SUPERNODAL;
+  c->postorder = true;
+  c->nmethods = 3;
+  c->method[0].ordering = CHOLMOD_AMD;
+  const CholmodLdl again = cholmod_ldl(a, perm, b, cm);
+  expect_equal(again.l, plain.l);
+  EXPECT_EQ(again.x, plain.x);
+  EXPECT_EQ(c->final_asis, 0);
+  EXPECT_EQ(c->final_ll, 1);
+  EXPECT_EQ(c->final_super, 1);
   EXPECT_EQ(c->supernodal, CHOLMOD_SUPERNODAL);
   EXPECT_EQ(c->postorder, 1);
   EXPECT_EQ(c->nmethods, 3);

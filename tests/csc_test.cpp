@@ -231,5 +231,25 @@ TEST(GraphOf, MatchesBruteForceOnEveryTestMatrix) {
   EXPECT_GE(checked, 10);
 }
 
+TEST(SymmetricMultiply, NormAndBackwardErrorAgainstDense) {
+  for (const auto& m : testing::test_matrices()) {
+    if (m.a.n > 1500) continue;
+    SCOPED_TRACE(m.name);
+    const Eigen::MatrixXd d = testing::dense(m.a);
+    const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(m.a.n, -1, 2);
+    Eigen::VectorXd y(m.a.n);
+    auto span = [](const Eigen::VectorXd& v) { return std::span<const double>(v.data(), v.size()); };
+    symmetric_multiply(m.a, span(x), std::span<double>(y.data(), y.size()));
+    EXPECT_LT((y - d * x).lpNorm<Eigen::Infinity>(), 1e-13 * (d * x).lpNorm<Eigen::Infinity>());
+    const double norm = d.cwiseAbs().rowwise().sum().maxCoeff();
+    EXPECT_DOUBLE_EQ(norm_inf(m.a), norm);
+    // A residual of delta in every row, large against rounding in A x.
+    const double delta = 1e-6 * (d * x).lpNorm<Eigen::Infinity>();
+    const Eigen::VectorXd b = d * x + Eigen::VectorXd::Constant(m.a.n, delta);
+    const double expected = delta / (norm * x.lpNorm<Eigen::Infinity>() + b.lpNorm<Eigen::Infinity>());
+    EXPECT_NEAR(backward_error(m.a, span(x), span(b)), expected, 1e-6 * expected);
+  }
+}
+
 }  // namespace
 }  // namespace ldlpgs

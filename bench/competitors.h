@@ -1,0 +1,44 @@
+#pragma once
+// The direct solvers ldlpgs is measured against (bench/, `ldlpgs bench`), behind one interface and
+// chosen by name:
+//
+//   cholmod             CHOLMOD simplicial LDL^T in the given order, not postordered
+//   cholmod-supernodal  CHOLMOD supernodal LL^T in the given order, postordered
+//   eigen-simplicial    Eigen::SimplicialLDLT in the given order
+//   eigen-dense         Eigen::LDLT on the dense matrix (its own pivoting: the order is unused)
+//
+// The sparse ones factor P A P^T for the caller's scalar pivot order, so that they are compared
+// with ldlpgs at the same fill and flops; only cholmod-supernodal may relabel the order, by
+// CHOLMOD's postordering of the elimination tree, which changes neither fill nor flops.
+#include <memory>
+#include <span>
+#include <string_view>
+
+#include "sparse/csc.h"
+
+namespace ldlpgs {
+
+// A direct solver prepared for one matrix and one scalar permutation: the constructor does all
+// symbolic work (analysis, permutation of the matrix), so that factor() is the numeric
+// factorization alone and solve() one right-hand side in place (original row order). The solver
+// keeps its own copy of the matrix: factor() factors the values a had when the solver was made.
+class DirectSolver {
+ public:
+  virtual ~DirectSolver() = default;
+  virtual std::string_view name() const = 0;
+  // False when the solver reports a numerical failure (CHOLMOD_NOT_POSDEF, Eigen's
+  // NumericalIssue): a zero pivot, or for the LL^T a pivot that is not positive. May be called
+  // again (a benchmark factors many times); each call starts afresh.
+  virtual bool factor() = 0;
+  // b (size n) is overwritten with x, A x = b. Only after a factor() that returned true. The
+  // CHOLMOD solvers allocate nothing from their second solve on.
+  virtual void solve(std::span<double> b) = 0;
+};
+
+// perm[k] = row eliminated k-th (size a.n). Throws InputError for an unknown name.
+std::unique_ptr<DirectSolver> make_direct_solver(std::string_view name, const SymmetricCsc& a,
+                                                 std::span<const int> perm);
+// All names, in the order reports list them.
+std::span<const std::string_view> direct_solver_names();
+
+}  // namespace ldlpgs
