@@ -11,5 +11,7 @@ using Command = std::function<int()>;
 
 Command add_order_command(CLI::App& app);
 Command add_report_command(CLI::App& app);
+Command add_verify_command(CLI::App& app);
+Command add_bench_command(CLI::App& app);
 
 }  // namespace ldlpgs::cli

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <stdexcept>
 
+#include "sparse/error.h"
 #include "sparse/families.h"
+#include "sparse/mechanism_matrix.h"
 #include "sparse/matrix_market.h"
 #include "sparse/partition.h"
 
@@ -22,9 +25,24 @@ Problem make_mechanism(const std::string& family, int num_constraints) {
   Problem p;
   p.blocks = constraint_graph(make_family(family, num_constraints));
   p.name = family + "-" + std::to_string(p.blocks.num_blocks());
-  p.a = p.blocks.expand();
+  p.a = mechanism_matrix(make_family(family, num_constraints));
   p.scalar_graph = graph_of(p.a);
   return p;
+}
+
+Problem load_problem(const std::string& spec, const std::string& blocks_spec, int max_block) {
+  const size_t colon = spec.rfind(':');
+  if (colon == std::string::npos || std::filesystem::exists(spec)) return load_matrix(spec, blocks_spec, max_block);
+  const std::string family = spec.substr(0, colon), count = spec.substr(colon + 1);
+  int m = 0;
+  try {
+    size_t used = 0;
+    m = std::stoi(count, &used);
+    if (used != count.size() || m < 1) throw std::invalid_argument(count);
+  } catch (const std::logic_error&) {
+    throw InputError(spec + ": expected FAMILY:CONSTRAINTS with a positive count, got '" + count + "'");
+  }
+  return make_mechanism(family, m);  // throws InputError naming an unknown family
 }
 
 std::vector<Row> compare(const Problem& p, const std::vector<std::string>& names, bool with_cholmod) {

@@ -22,8 +22,10 @@ struct Problem {
 
 // Reads a Matrix Market file and partitions it (spec as --blocks: auto, N or FILE).
 Problem load_matrix(const std::string& path, const std::string& blocks_spec, int max_block);
-// A generated mechanism: its constraint graph with every block dense.
+// A generated mechanism: its constraint graph, values H = J W J^T + 1e-6 diag (mechanism_matrix.h).
 Problem make_mechanism(const std::string& family, int num_constraints);
+// A Matrix Market file, or FAMILY:CONSTRAINTS (e.g. chain:100) for a generated mechanism.
+Problem load_problem(const std::string& spec, const std::string& blocks_spec, int max_block);
 
 struct Row {
   OrderingSummary summary;

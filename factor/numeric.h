@@ -70,13 +70,14 @@ class Numeric {
   std::span<const double> values() const { return values_; }
 
  private:
-  void load(const SymmetricCsc& a, const FactorOptions& options);
+  bool load(const SymmetricCsc& a, const FactorOptions& options);  // false: a non-finite entry
   const Symbolic* symbolic_;
   std::vector<double> values_;   // packed blocks (size symbolic.num_values())
   std::vector<double> scratch_;  // L_{*,k} before it replaces E (size symbolic.scratch_size())
   std::vector<double> floor_;    // zero-pivot threshold per permuted row (size n)
   std::vector<double> diag_;     // |H_rr| regularized, per permuted row (size n)
   std::vector<double> work_;     // permuted right-hand side (size n)
+  std::vector<double> inv_d_;    // 1 / D per permuted row (size n)
   FactorInfo info_;
 };
 

@@ -60,15 +60,17 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
   s.edge_pivot_ = elim.edges;
   s.edge_fill_ = elim.fill;
   s.num_fill_ = elim.fill_edges;
-  std::vector<int> edge_row(s.edge_pivot_.size());  // first row of each edge block in its E (size num_edges)
+  s.edge_row_.resize(s.edge_pivot_.size());
+  s.edge_size_.resize(s.edge_pivot_.size());
   s.height_.assign(np, 0);
   s.node_offset_.assign(np + 1, 0);
   s.l_rows_ptr_.assign(np + 1, 0);
   for (int k = 0; k < np; ++k) {
     int h = 0;
     for (int e = s.edge_ptr_[k]; e < s.edge_ptr_[k + 1]; ++e) {
-      edge_row[e] = h;
-      h += s.size_[s.edge_pivot_[e]];
+      s.edge_row_[e] = h;
+      s.edge_size_[e] = s.size_[s.edge_pivot_[e]];
+      h += s.edge_size_[e];
     }
     const int64_t d = s.size_[k];
     s.height_[k] = h;
@@ -77,6 +79,7 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
     s.nnz_l_ += d * (d + 1) / 2 + int64_t{h} * d;
     s.flops_ += static_cast<double>(d * (d + 1) * (2 * d + 1) / 6 + int64_t{h} * d * (d + 1) + d * h * h);
     s.scratch_size_ = std::max(s.scratch_size_, int64_t{h} * d);
+    s.max_size_ = std::max(s.max_size_, s.size_[k]);
   }
   if (s.num_values() > std::numeric_limits<int32_t>::max())
     throw InputError("the factor needs " + std::to_string(s.num_values()) +
@@ -86,46 +89,31 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
     for (int j : s.edges(k))
       for (int l = 0; l < s.size_[j]; ++l) s.l_rows_.push_back(s.row_start_[j] + l);
 
-  // RSI: the product of rows i >= c of E_{*,k} and L_{*,k} lands in S at (row i, row c). Rows in
-  // one block jb land in its node block (lower triangle); rows of blocks ja > jb land in the edge
-  // block (ja, jb) of column jb, which the elimination game guarantees exists.
+  // RSI: for edge blocks b <= a of column k (a, b indices into the column), the product
+  // E_a L_b^T lands in b's node block when a == b, else in the edge block of pivot col[a] in the
+  // column of pivot col[b], which the elimination game guarantees exists. One index per block
+  // pair, b-major (the kernel dispatches once per b on b's size); the talk keeps one per scalar
+  // pair (papers/factor.md measures both).
   s.rsi_ptr_.assign(np + 1, 0);
-  for (int k = 0; k < np; ++k) s.rsi_ptr_[k + 1] = s.rsi_ptr_[k] + int64_t{s.height_[k]} * (s.height_[k] + 1) / 2;
+  for (int k = 0; k < np; ++k) {
+    const int64_t m = s.edge_ptr_[k + 1] - s.edge_ptr_[k];
+    s.rsi_ptr_[k + 1] = s.rsi_ptr_[k] + m * (m + 1) / 2;
+  }
   s.rsi_.resize(s.rsi_ptr_[np]);
-  std::vector<int> mark(np, -1);   // row of an edge block in the marked column (size np)
-  std::vector<int> row_edge, row_local;  // per row of E_{*,k}: its edge (index in the column), row in it
-  std::vector<int> pair_row;        // edges a >= b of column k: row of edge a's block in column b's E
+  std::vector<int> mark(np, -1);  // row of an edge block in the marked column (size np)
   for (int k = 0; k < np; ++k) {
     const std::span<const int> col = s.edges(k);
     const int m = static_cast<int>(col.size());
-    pair_row.assign(static_cast<size_t>(m) * m, -1);
+    int32_t* out = s.rsi_.data() + s.rsi_ptr_[k];
     for (int b = 0; b < m; ++b) {
-      mark_column(s.edge_ptr_, s.edge_pivot_, edge_row, col[b], mark);
+      const int jb = col[b];
+      *out++ = static_cast<int32_t>(s.node_offset_[jb]);
+      mark_column(s.edge_ptr_, s.edge_pivot_, s.edge_row_, jb, mark);
       for (int a = b + 1; a < m; ++a) {
         assert(mark[col[a]] >= 0 && "the elimination game left out a fill block");
-        pair_row[a * m + b] = mark[col[a]];
+        *out++ = static_cast<int32_t>(s.column_offset(jb) + int64_t{mark[col[a]]} * s.size_[jb]);
       }
-      unmark_column(s.edge_ptr_, s.edge_pivot_, col[b], mark);
-    }
-    row_edge.clear();
-    row_local.clear();
-    for (int a = 0; a < m; ++a)
-      for (int l = 0; l < s.size_[col[a]]; ++l) {
-        row_edge.push_back(a);
-        row_local.push_back(l);
-      }
-    // The talk's loop order: for i < h, for c <= i.
-    int32_t* out = s.rsi_.data() + s.rsi_ptr_[k];
-    for (int i = 0; i < s.height_[k]; ++i) {
-      const int a = row_edge[i], la = row_local[i];
-      for (int c = 0; c <= i; ++c) {
-        const int b = row_edge[c], lb = row_local[c];
-        const int jb = col[b];
-        const int64_t db = s.size_[jb];
-        const int64_t target = a == b ? s.node_offset_[jb] + la * db + lb
-                                      : s.column_offset(jb) + (pair_row[a * m + b] + la) * db + lb;
-        *out++ = static_cast<int32_t>(target);
-      }
+      unmark_column(s.edge_ptr_, s.edge_pivot_, jb, mark);
     }
   }
 
@@ -151,14 +139,14 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
   for (int c = 0; c < pattern.n; ++c)
     for (int p = pattern.col_ptr[c]; p < pattern.col_ptr[c + 1]; ++p) col_of_entry[p] = c;
   for (int k = 0; k < np; ++k) {
-    mark_column(s.edge_ptr_, s.edge_pivot_, edge_row, k, mark);
+    mark_column(s.edge_ptr_, s.edge_pivot_, s.edge_row_, k, mark);
     for (int64_t q = bucket_ptr[k]; q < bucket_ptr[k + 1]; ++q) {
       const int64_t p = bucket[q];
       const int r = pattern.row_idx[p], c = col_of_entry[p];
       const int br = block_of_row[r], bc = block_of_row[c];
       const int lr = r - blocks.block(br).position, lc = c - blocks.block(bc).position;
       if (br == bc) {
-        s.load_map_[p] = s.node_offset_[k] + int64_t{std::max(lr, lc)} * s.size_[k] + std::min(lr, lc);
+        s.load_map_[p] = static_cast<int32_t>(s.node_offset_[k] + int64_t{std::max(lr, lc)} * s.size_[k] + std::min(lr, lc));
         continue;
       }
       // The later of the two blocks gives the row of L, the earlier (pivot k) the column.
@@ -166,7 +154,7 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
       const int later = row_is_r ? pos[br] : pos[bc];
       const int lrow = row_is_r ? lr : lc, lcol = row_is_r ? lc : lr;
       assert(mark[later] >= 0 && "an entry outside the block pattern");
-      s.load_map_[p] = s.column_offset(k) + int64_t{mark[later] + lrow} * s.size_[k] + lcol;
+      s.load_map_[p] = static_cast<int32_t>(s.column_offset(k) + int64_t{mark[later] + lrow} * s.size_[k] + lcol);
     }
     unmark_column(s.edge_ptr_, s.edge_pivot_, k, mark);
   }
@@ -176,7 +164,7 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
 int64_t Symbolic::memory_bytes() const {
   auto bytes = [](const auto& v) { return static_cast<int64_t>(v.size() * sizeof(v[0])); };
   return bytes(block_) + bytes(size_) + bytes(row_start_) + bytes(height_) + bytes(node_offset_) +
-         bytes(edge_ptr_) + bytes(edge_pivot_) + bytes(edge_fill_) + bytes(l_rows_ptr_) + bytes(l_rows_) +
+         bytes(edge_ptr_) + bytes(edge_pivot_) + bytes(edge_fill_) + bytes(edge_row_) + bytes(edge_size_) + bytes(l_rows_ptr_) + bytes(l_rows_) +
          bytes(rsi_ptr_) + bytes(rsi_) + bytes(load_map_) + bytes(perm_);
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // The symbolic phase of the block LDL^T (the talk: once per mechanism): from a block pattern and a
 // block pivot sequence, the block structure of L with its fill blocks, the packed memory layout
-// of all node and edge blocks, the reduction-scattering indices (RSI) and the map that loads a
+// of all node and edge blocks, the reduction-scattering indices (RSI, one per pair of blocks) and the map that loads a
 // matrix's stored entries into the layout. Immutable; any matrix with the same pattern reuses it.
 //
 // Layout, as the talk packs it: blocks in column-major order (pivot k's node block N_k, then the
@@ -59,11 +59,17 @@ class Symbolic {
   int64_t first_edge(int k) const { return edge_ptr_[k]; }
   // Permuted scalar row of each row of E_{*,k} (size height(k)).
   const int* column_rows(int k) const { return l_rows_.data() + l_rows_ptr_[k]; }
+  // Of column k's edge blocks: first row in E_{*,k} and size (each of length edges(k).size()).
+  const int* edge_rows(int k) const { return edge_row_.data() + edge_ptr_[k]; }
+  const int* edge_sizes(int k) const { return edge_size_.data() + edge_ptr_[k]; }
+  // Value offset of the target block of each edge-block pair b <= a of column k, b-major:
+  // (0,0), (1,0), ..., (m-1,0), (1,1), ... (size m (m+1) / 2, m = edges(k).size()).
   const int32_t* rsi(int k) const { return rsi_.data() + rsi_ptr_[k]; }
+  int max_size() const { return max_size_; }  // largest block
   // perm[i] = original row at permuted position i (size num_rows)
   std::span<const int> perm() const { return perm_; }
   // Offset in the values of each stored entry of the pattern (size pattern nnz).
-  std::span<const int64_t> load_map() const { return load_map_; }
+  std::span<const int32_t> load_map() const { return load_map_; }
   int64_t pattern_nnz() const { return static_cast<int64_t>(load_map_.size()); }
 
  private:
@@ -76,16 +82,19 @@ class Symbolic {
   std::vector<int> edge_ptr_;         // edges of pivot k: [edge_ptr[k], edge_ptr[k+1]) (size num_pivots+1)
   std::vector<int> edge_pivot_;       // pivot position of each edge block's rows (size num_edges)
   std::vector<uint8_t> edge_fill_;    // 1 for a fill block (size num_edges)
+  std::vector<int> edge_row_;         // first row of each edge block in its column's E (size num_edges)
+  std::vector<int> edge_size_;        // rows of each edge block (size num_edges)
   std::vector<int64_t> l_rows_ptr_;   // (size num_pivots+1)
   std::vector<int> l_rows_;           // permuted scalar rows of every E_{*,k} (size sum h_k)
   std::vector<int64_t> rsi_ptr_;      // (size num_pivots+1)
-  std::vector<int32_t> rsi_;          // h_k (h_k+1) / 2 targets per pivot (size rsi_ptr[num_pivots])
-  std::vector<int64_t> load_map_;     // value offset of each stored pattern entry (size pattern nnz)
+  std::vector<int32_t> rsi_;          // m (m+1) / 2 block targets per pivot of m edges (size rsi_ptr[num_pivots])
+  std::vector<int32_t> load_map_;     // value offset of each stored pattern entry (size pattern nnz)
   std::vector<int> perm_;             // (size n)
   int64_t num_fill_ = 0;
   int64_t nnz_l_ = 0;
   double flops_ = 0;
   int64_t scratch_size_ = 0;
+  int max_size_ = 0;
 };
 
 }  // namespace ldlpgs

@@ -26,9 +26,11 @@ TEST_P(Kernels, LdlNodeReconstructsTheBlock) {
   const RowMatrix n = random_spd(d, d);
   RowMatrix f = n;
   const std::vector<double> floor(d, 0.0);
+  std::vector<double> inv_d(d);
   int bad = 0;
-  kernels::dispatch_size(d, [&](auto size) { bad = kernels::ldl_node<decltype(size)::value>(f.data(), floor.data(), d); });
+  kernels::dispatch_size(d, [&](auto size) { bad = kernels::ldl_node<decltype(size)::value>(f.data(), floor.data(), inv_d.data(), d); });
   ASSERT_EQ(bad, -1);
+  for (int j = 0; j < d; ++j) EXPECT_DOUBLE_EQ(inv_d[j], 1.0 / f(j, j));
   Eigen::MatrixXd l = Eigen::MatrixXd::Identity(d, d);
   l.triangularView<Eigen::StrictlyLower>() = f.triangularView<Eigen::StrictlyLower>();
   const Eigen::MatrixXd dd = f.diagonal().asDiagonal();
@@ -41,29 +43,41 @@ TEST_P(Kernels, ComputeLSolvesAgainstTheNodeBlock) {
   const RowMatrix e = RowMatrix::Random(h, d);
   RowMatrix f = n, l(h, d);
   const std::vector<double> floor(d, 0.0);
+  std::vector<double> inv_d(d);
   kernels::dispatch_size(d, [&](auto size) {
     constexpr int N = decltype(size)::value;
-    kernels::ldl_node<N>(f.data(), floor.data(), d);
-    kernels::compute_l<N>(l.data(), f.data(), e.data(), h, d);
+    kernels::ldl_node<N>(f.data(), floor.data(), inv_d.data(), d);
+    kernels::compute_l<N>(l.data(), f.data(), inv_d.data(), e.data(), h, d);
   });
   const Eigen::MatrixXd expected = Eigen::MatrixXd(e) * Eigen::MatrixXd(n).inverse();
   EXPECT_LT((Eigen::MatrixXd(l) - expected).norm(), 1e-12 * expected.norm());
 }
 
-TEST_P(Kernels, ReduceScattersTheLowerTriangleOfELt) {
-  const int d = GetParam(), h = 5;
-  const RowMatrix e = RowMatrix::Random(h, d), l = RowMatrix::Random(h, d);
-  // Scatter the product (i, c), c <= i, to values[h * i + c] of a dense h x h matrix.
-  std::vector<int32_t> rsi;
-  for (int i = 0; i < h; ++i)
-    for (int c = 0; c <= i; ++c) rsi.push_back(h * i + c);
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> s = RowMatrix::Zero(h, h);
-  kernels::dispatch_size(d, [&](auto size) {
-    kernels::reduce<decltype(size)::value>(s.data(), e.data(), l.data(), rsi.data(), h, d);
-  });
-  const Eigen::MatrixXd expected = -Eigen::MatrixXd(e) * Eigen::MatrixXd(l).transpose();
-  for (int i = 0; i < h; ++i)
-    for (int c = 0; c < h; ++c) EXPECT_NEAR(s(i, c), c <= i ? expected(i, c) : 0.0, 1e-14) << i << "," << c;
+TEST_P(Kernels, ReduceColumnSubtractsEachBlockProductAtItsTarget) {
+  // A column whose edge blocks have sizes {db, 1, 3, 7} (db = 1..7 covers every unrolled size of
+  // the second dispatch and the generic one): the products with block b = 0 land at the targets.
+  const int d = GetParam();
+  for (int db = 1; db <= 7; ++db) {
+    const std::vector<int> sizes = {db, 1, 3, 7}, rows = {0, db, db + 1, db + 4};
+    const int h = db + 11;
+    const RowMatrix e = RowMatrix::Random(h, d), l = RowMatrix::Random(h, d);
+    std::vector<int32_t> rsi;  // target of pair (a, 0) at 100 * a, each d_a x db row-major
+    for (int a = 0; a < 4; ++a) rsi.push_back(100 * a);
+    std::vector<double> values(400, 1.0);
+    kernels::dispatch_size(d, [&](auto size) {
+      constexpr int N = decltype(size)::value;
+      kernels::dispatch_size(db, [&](auto size_b) {
+        kernels::reduce_column<N, decltype(size_b)::value>(values.data(), e.data(), l.data(), rsi.data(), sizes.data(),
+                                                           rows.data(), 4, d, db);
+      });
+    });
+    for (int a = 0; a < 4; ++a) {
+      const Eigen::MatrixXd product = Eigen::MatrixXd(e.middleRows(rows[a], sizes[a])) * Eigen::MatrixXd(l.topRows(db)).transpose();
+      for (int r = 0; r < sizes[a]; ++r)
+        for (int c = 0; c < db; ++c) EXPECT_NEAR(values[100 * a + r * db + c], 1.0 - product(r, c), 1e-14) << a;
+      EXPECT_EQ(values[100 * a + sizes[a] * db], 1.0);  // nothing beyond the block
+    }
+  }
 }
 
 TEST_P(Kernels, ZeroAndNonFinitePivotsStopTheBlock) {
@@ -77,13 +91,14 @@ TEST_P(Kernels, ZeroAndNonFinitePivotsStopTheBlock) {
     n(0, 0) = 0;
   }
   const std::vector<double> floor(d, 1e-12 * n.diagonal().cwiseAbs().maxCoeff());
+  std::vector<double> inv_d(d);
   RowMatrix f = n;
   int bad = 0;
-  kernels::dispatch_size(d, [&](auto size) { bad = kernels::ldl_node<decltype(size)::value>(f.data(), floor.data(), d); });
+  kernels::dispatch_size(d, [&](auto size) { bad = kernels::ldl_node<decltype(size)::value>(f.data(), floor.data(), inv_d.data(), d); });
   EXPECT_EQ(bad, d - 1);
   f = n;
   f(0, 0) = std::numeric_limits<double>::quiet_NaN();
-  kernels::dispatch_size(d, [&](auto size) { bad = kernels::ldl_node<decltype(size)::value>(f.data(), floor.data(), d); });
+  kernels::dispatch_size(d, [&](auto size) { bad = kernels::ldl_node<decltype(size)::value>(f.data(), floor.data(), inv_d.data(), d); });
   EXPECT_EQ(bad, 0);
 }
 

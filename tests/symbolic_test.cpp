@@ -43,13 +43,19 @@ void expect_consistent(const SymmetricCsc& a, const BlockPattern& blocks, const 
   const CholmodCounts counts = cholmod_counts(blocks.expand(), s.perm(), cm);
   EXPECT_EQ(s.nnz_l(), static_cast<int64_t>(counts.lnz));
   EXPECT_EQ(s.flops(), counts.fl);
-  // RSI: pair (i, c) of pivot k addresses (rows[i], rows[c]) (so no value twice per pivot).
+  // RSI: the pair of edge blocks (a, b), b <= a, b-major, addresses the block of S at
+  // (rows of col[a], rows of col[b]): every element of it, lower triangle for a node block.
   for (int k = 0; k < s.num_pivots(); ++k) {
-    const int* rows = s.column_rows(k);
+    const std::span<const int> col = s.edges(k);
     const int32_t* rsi = s.rsi(k);
-    for (int i = 0; i < s.height(k); ++i)
-      for (int c = 0; c <= i; ++c, ++rsi)
-        ASSERT_EQ(at[*rsi], std::make_pair(rows[i], rows[c])) << "pivot " << k << " pair " << i << "," << c;
+    for (size_t b = 0; b < col.size(); ++b)
+      for (size_t a = b; a < col.size(); ++a, ++rsi) {
+        const int da = s.size(col[a]), db = s.size(col[b]);
+        for (int r = 0; r < da; ++r)
+          for (int c = 0; c < (a == b ? r + 1 : db); ++c)
+            ASSERT_EQ(at[*rsi + r * db + c], std::make_pair(s.row_start(col[a]) + r, s.row_start(col[b]) + c))
+                << "pivot " << k << " pair " << a << "," << b;
+      }
   }
   // Load map: stored entry (r, c) lands at its permuted position, lower triangle.
   std::vector<int> inverse(a.n);
