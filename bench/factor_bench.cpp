@@ -49,6 +49,7 @@
 #include <string_view>
 #include <vector>
 
+#include "bench/test_matrix_files.h"
 #include "bench/competitors.h"
 #include "bench/ldlpgs_solver.h"
 #include "factor/symbolic.h"
@@ -231,17 +232,8 @@ void register_families() {
 
 bool register_matrices() {
   namespace fs = std::filesystem;
-  const fs::path dir = LDLPGS_MATRICES;
-  std::error_code ec;
-  std::vector<fs::path> files;
-  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
-    if (e.path().extension() == ".mtx" && e.path().filename() != "Pd.mtx") files.push_back(e.path());
-  }
-  if (ec) {
-    std::fprintf(stderr, "factor_bench: %s: %s\n", dir.c_str(), ec.message().c_str());
-    return false;
-  }
-  std::sort(files.begin(), files.end());
+  const std::vector<fs::path> files = test_matrix_files(LDLPGS_MATRICES, "factor_bench");
+  if (files.empty()) return false;
   for (const fs::path& path : files) {
     Problem p;
     p.name = path.filename().string();

@@ -33,6 +33,7 @@
 #include <utility>
 #include <vector>
 
+#include "bench/test_matrix_files.h"
 #include "ordering/metrics.h"
 #include "ordering/ordering.h"
 #include "sparse/block_pattern.h"
@@ -154,17 +155,8 @@ void register_families() {
 
 bool register_matrices() {
   namespace fs = std::filesystem;
-  const fs::path dir = LDLPGS_MATRICES;
-  std::error_code ec;
-  std::vector<fs::path> files;
-  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
-    if (e.path().extension() == ".mtx" && e.path().filename() != "Pd.mtx") files.push_back(e.path());
-  }
-  if (ec) {
-    std::fprintf(stderr, "orderings_bench: %s: %s\n", dir.c_str(), ec.message().c_str());
-    return false;
-  }
-  std::sort(files.begin(), files.end());
+  const std::vector<fs::path> files = test_matrix_files(LDLPGS_MATRICES, "orderings_bench");
+  if (files.empty()) return false;
   for (const fs::path& path : files) {
     const std::string stem = path.stem().string();
     register_problem(stem, "matrix:" + path.string(), [path = path.string()](Problem& p) {
