@@ -89,25 +89,24 @@ inline void compute_l(double* __restrict l, const double* __restrict node, const
   }
 }
 
-// S <- S - E L^T (the talk's reduce<degree>, most of the time), one block pair at a time: for the
-// edge block b (DB rows of L starting at lb) and each edge block a >= b of the same column
-// (sizes_a[i] rows of E starting at row rows_a[i]), the product lands at values + rsi[i]: the
-// edge block (a, b) of column b, or b's node block when a == b (whose upper triangle, also
-// written here, is never read). Both sizes fixed at compile time make each product a fully
-// unrolled set of independent dot products.
+// S <- S - E L^T (the talk's reduce<degree>, most of the time) for one edge block b of the
+// column: lb holds its DB rows of L. Each of the `count` runs (target, row, rows) subtracts rows
+// [row, row + rows) of E times L_b^T from `rows` consecutive target rows of stride DB (the node
+// block of b, whose upper triangle is written but never read, and/or edge blocks below it).
+// Both sizes fixed at compile time make each target row DB independent unrolled dot products.
+// Returns the runs' end.
 template <int N, int DB>
-inline void reduce_column(double* __restrict values, const double* __restrict e, const double* __restrict lb,
-                          const int32_t* rsi, const int* sizes_a, const int* rows_a, int count, int n, int db) {
+inline const int32_t* reduce_runs(double* __restrict values, const double* __restrict e, const double* __restrict lb,
+                                  const int32_t* runs, int count, int n, int db) {
   const int m = N ? N : n;
   const int nb = DB ? DB : db;
-  for (int i = 0; i < count; ++i) {
-    double* __restrict t = values + rsi[i];
-    const double* ea = e + rows_a[i] * m;
-    for (int r = 0; r < sizes_a[i]; ++r) {
-      const double* er = ea + r * m;
-      for (int c = 0; c < nb; ++c) t[r * nb + c] -= dot<N>(er, lb + c * m, m);
-    }
+  for (int i = 0; i < count; ++i, runs += 3) {
+    double* __restrict t = values + runs[0];
+    const double* er = e + runs[1] * m;
+    for (int r = 0; r < runs[2]; ++r, t += nb, er += m)
+      for (int c = 0; c < nb; ++c) t[c] -= dot<N>(er, lb + c * m, m);
   }
+  return runs;
 }
 
 // Forward substitution through pivot k's column: y[rows[r]] -= L_r . y_k for each row r of L.

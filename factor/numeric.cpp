@@ -113,9 +113,8 @@ FactorInfo Numeric::factorize(const SymmetricCsc& a, const FactorOptions& option
       for (int b = 0; b < m; ++b) {
         kernels::dispatch_size(sizes[b], [&](auto size_b) {
           constexpr int DB = decltype(size_b)::value;
-          kernels::reduce_column<N, DB>(v, e, l + rows[b] * d, rsi, sizes + b, rows + b, m - b, d, sizes[b]);
+          rsi = kernels::reduce_runs<N, DB>(v, e, l + rows[b] * d, rsi + 1, rsi[0], d, sizes[b]);
         });
-        rsi += m - b;
       }
       std::copy(l, l + h * d, e);  // (memcpy may not take the null of an empty scratch)
     });

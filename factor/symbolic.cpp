@@ -89,32 +89,44 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
     for (int j : s.edges(k))
       for (int l = 0; l < s.size_[j]; ++l) s.l_rows_.push_back(s.row_start_[j] + l);
 
-  // RSI: for edge blocks b <= a of column k (a, b indices into the column), the product
-  // E_a L_b^T lands in b's node block when a == b, else in the edge block of pivot col[a] in the
-  // column of pivot col[b], which the elimination game guarantees exists. One index per block
-  // pair, b-major (the kernel dispatches once per b on b's size); the talk keeps one per scalar
-  // pair (papers/factor.md measures both).
+  // RSI: for each edge block b of column k (pivot jb = col[b]), the products E_a L_b^T of the
+  // blocks a >= b land in column jb: a == b in jb's node block, a > b in the edge block of
+  // col[a] in column jb, which the elimination game guarantees exists. Targets of consecutive a
+  // that are consecutive rows of column jb (node block, then its E, all with row stride d_jb)
+  // form one run: a panel of rows of E_k times L_b^T lands as one contiguous block. The talk
+  // keeps one index per scalar pair; a run is one index for up to all of them (papers/factor.md).
+  // Stored per pivot, per b: the number of runs, then (target, first row in E_k, rows) each.
   s.rsi_ptr_.assign(np + 1, 0);
-  for (int k = 0; k < np; ++k) {
-    const int64_t m = s.edge_ptr_[k + 1] - s.edge_ptr_[k];
-    s.rsi_ptr_[k + 1] = s.rsi_ptr_[k] + m * (m + 1) / 2;
-  }
-  s.rsi_.resize(s.rsi_ptr_[np]);
   std::vector<int> mark(np, -1);  // row of an edge block in the marked column (size np)
   for (int k = 0; k < np; ++k) {
     const std::span<const int> col = s.edges(k);
     const int m = static_cast<int>(col.size());
-    int32_t* out = s.rsi_.data() + s.rsi_ptr_[k];
     for (int b = 0; b < m; ++b) {
       const int jb = col[b];
-      *out++ = static_cast<int32_t>(s.node_offset_[jb]);
+      const size_t header = s.rsi_.size();
+      s.rsi_.push_back(0);
       mark_column(s.edge_ptr_, s.edge_pivot_, s.edge_row_, jb, mark);
-      for (int a = b + 1; a < m; ++a) {
-        assert(mark[col[a]] >= 0 && "the elimination game left out a fill block");
-        *out++ = static_cast<int32_t>(s.column_offset(jb) + int64_t{mark[col[a]]} * s.size_[jb]);
+      int64_t next_target = -1;  // where a run's next row would land
+      for (int a = b; a < m; ++a) {
+        int64_t target;
+        if (a == b) {
+          target = s.node_offset_[jb];
+        } else {
+          assert(mark[col[a]] >= 0 && "the elimination game left out a fill block");
+          target = s.column_offset(jb) + int64_t{mark[col[a]]} * s.size_[jb];
+        }
+        const int rows = s.size_[col[a]];
+        if (target == next_target) {
+          s.rsi_.back() += rows;
+        } else {
+          s.rsi_.insert(s.rsi_.end(), {static_cast<int32_t>(target), s.edge_row_[s.edge_ptr_[k] + a], rows});
+          ++s.rsi_[header];
+        }
+        next_target = target + int64_t{rows} * s.size_[jb];
       }
       unmark_column(s.edge_ptr_, s.edge_pivot_, jb, mark);
     }
+    s.rsi_ptr_[k + 1] = static_cast<int64_t>(s.rsi_.size());
   }
 
   // Load map: entry (r, c) of the lower triangle, r in block br, c in block bc. Same block: the

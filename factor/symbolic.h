@@ -62,9 +62,11 @@ class Symbolic {
   // Of column k's edge blocks: first row in E_{*,k} and size (each of length edges(k).size()).
   const int* edge_rows(int k) const { return edge_row_.data() + edge_ptr_[k]; }
   const int* edge_sizes(int k) const { return edge_size_.data() + edge_ptr_[k]; }
-  // Value offset of the target block of each edge-block pair b <= a of column k, b-major:
-  // (0,0), (1,0), ..., (m-1,0), (1,1), ... (size m (m+1) / 2, m = edges(k).size()).
+  // The reduction-scattering runs of column k, for each edge block b in order: the number of
+  // runs, then per run (value offset of its first target row, its first row in E_{*,k}, rows).
+  // The run's rows of E_{*,k} times L_b^T land at consecutive target rows of stride size(b).
   const int32_t* rsi(int k) const { return rsi_.data() + rsi_ptr_[k]; }
+  int64_t rsi_size() const { return static_cast<int64_t>(rsi_.size()); }
   int max_size() const { return max_size_; }  // largest block
   // perm[i] = original row at permuted position i (size num_rows)
   std::span<const int> perm() const { return perm_; }
@@ -87,7 +89,7 @@ class Symbolic {
   std::vector<int64_t> l_rows_ptr_;   // (size num_pivots+1)
   std::vector<int> l_rows_;           // permuted scalar rows of every E_{*,k} (size sum h_k)
   std::vector<int64_t> rsi_ptr_;      // (size num_pivots+1)
-  std::vector<int32_t> rsi_;          // m (m+1) / 2 block targets per pivot of m edges (size rsi_ptr[num_pivots])
+  std::vector<int32_t> rsi_;          // runs per pivot, see rsi() (size rsi_ptr[num_pivots])
   std::vector<int32_t> load_map_;     // value offset of each stored pattern entry (size pattern nnz)
   std::vector<int> perm_;             // (size n)
   int64_t num_fill_ = 0;

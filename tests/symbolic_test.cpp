@@ -43,19 +43,31 @@ void expect_consistent(const SymmetricCsc& a, const BlockPattern& blocks, const 
   const CholmodCounts counts = cholmod_counts(blocks.expand(), s.perm(), cm);
   EXPECT_EQ(s.nnz_l(), static_cast<int64_t>(counts.lnz));
   EXPECT_EQ(s.flops(), counts.fl);
-  // RSI: the pair of edge blocks (a, b), b <= a, b-major, addresses the block of S at
-  // (rows of col[a], rows of col[b]): every element of it, lower triangle for a node block.
+  // RSI: for each edge block b of a column, its runs address, row by row, the rows of E_{*,k}
+  // they name (permuted rows column_rows) against b's rows (every element of an edge block, the
+  // lower triangle of a node block), and together cover each row of the blocks a >= b once.
   for (int k = 0; k < s.num_pivots(); ++k) {
     const std::span<const int> col = s.edges(k);
+    const int* rows = s.column_rows(k);
     const int32_t* rsi = s.rsi(k);
-    for (size_t b = 0; b < col.size(); ++b)
-      for (size_t a = b; a < col.size(); ++a, ++rsi) {
-        const int da = s.size(col[a]), db = s.size(col[b]);
-        for (int r = 0; r < da; ++r)
-          for (int c = 0; c < (a == b ? r + 1 : db); ++c)
-            ASSERT_EQ(at[*rsi + r * db + c], std::make_pair(s.row_start(col[a]) + r, s.row_start(col[b]) + c))
-                << "pivot " << k << " pair " << a << "," << b;
+    for (size_t b = 0; b < col.size(); ++b) {
+      const int jb = col[b], db = s.size(jb);
+      std::vector<int> covered(s.height(k), 0);
+      const int runs = *rsi++;
+      for (int run = 0; run < runs; ++run, rsi += 3) {
+        for (int r = 0; r < rsi[2]; ++r) {
+          const int source = rsi[1] + r;
+          ++covered[source];
+          for (int c = 0; c < db; ++c) {
+            const std::pair<int, int> expected = {rows[source], s.row_start(jb) + c};
+            if (expected.first < expected.second) continue;  // upper triangle of the node block
+            ASSERT_EQ(at[rsi[0] + r * db + c], expected) << "pivot " << k << " edge " << b << " run " << run;
+          }
+        }
       }
+      for (int i = 0; i < s.height(k); ++i) EXPECT_EQ(covered[i], i >= s.edge_rows(k)[b] ? 1 : 0) << "pivot " << k;
+    }
+    ASSERT_EQ(rsi, k + 1 < s.num_pivots() ? s.rsi(k + 1) : s.rsi(0) + s.rsi_size());  // no run left over
   }
   // Load map: stored entry (r, c) lands at its permuted position, lower triangle.
   std::vector<int> inverse(a.n);
