@@ -53,29 +53,29 @@ TEST_P(Kernels, ComputeLSolvesAgainstTheNodeBlock) {
   EXPECT_LT((Eigen::MatrixXd(l) - expected).norm(), 1e-12 * expected.norm());
 }
 
-TEST_P(Kernels, ReduceColumnSubtractsEachBlockProductAtItsTarget) {
-  // A column whose edge blocks have sizes {db, 1, 3, 7} (db = 1..7 covers every unrolled size of
-  // the second dispatch and the generic one): the products with block b = 0 land at the targets.
+TEST_P(Kernels, ReduceRunsSubtractEachPanelProductAtItsTarget) {
+  // Runs of 1, 3 and 7 rows of E (from rows 0, 1 and 4) times L_b^T (db rows of L from row 2;
+  // db = 1..7 covers every unrolled size of the second dispatch and the generic one) land at
+  // offsets 0, 100, 200 with row stride db.
   const int d = GetParam();
   for (int db = 1; db <= 7; ++db) {
-    const std::vector<int> sizes = {db, 1, 3, 7}, rows = {0, db, db + 1, db + 4};
-    const int h = db + 11;
-    const RowMatrix e = RowMatrix::Random(h, d), l = RowMatrix::Random(h, d);
-    std::vector<int32_t> rsi;  // target of pair (a, 0) at 100 * a, each d_a x db row-major
-    for (int a = 0; a < 4; ++a) rsi.push_back(100 * a);
-    std::vector<double> values(400, 1.0);
+    const std::vector<int32_t> runs = {0, 0, 1, 100, 1, 3, 200, 4, 7};
+    const RowMatrix e = RowMatrix::Random(11, d), l = RowMatrix::Random(11, d);
+    std::vector<double> values(300, 1.0);
+    const int32_t* end = nullptr;
     kernels::dispatch_size(d, [&](auto size) {
       constexpr int N = decltype(size)::value;
       kernels::dispatch_size(db, [&](auto size_b) {
-        kernels::reduce_column<N, decltype(size_b)::value>(values.data(), e.data(), l.data(), rsi.data(), sizes.data(),
-                                                           rows.data(), 4, d, db);
+        end = kernels::reduce_runs<N, decltype(size_b)::value>(values.data(), e.data(), l.data() + 2 * d, runs.data(), 3, d, db);
       });
     });
-    for (int a = 0; a < 4; ++a) {
-      const Eigen::MatrixXd product = Eigen::MatrixXd(e.middleRows(rows[a], sizes[a])) * Eigen::MatrixXd(l.topRows(db)).transpose();
-      for (int r = 0; r < sizes[a]; ++r)
-        for (int c = 0; c < db; ++c) EXPECT_NEAR(values[100 * a + r * db + c], 1.0 - product(r, c), 1e-14) << a;
-      EXPECT_EQ(values[100 * a + sizes[a] * db], 1.0);  // nothing beyond the block
+    EXPECT_EQ(end, runs.data() + runs.size());
+    const Eigen::MatrixXd product = Eigen::MatrixXd(e) * Eigen::MatrixXd(l.middleRows(2, db)).transpose();
+    for (size_t run = 0; run < 3; ++run) {
+      const int target = runs[3 * run], row = runs[3 * run + 1], rows = runs[3 * run + 2];
+      for (int r = 0; r < rows; ++r)
+        for (int c = 0; c < db; ++c) EXPECT_NEAR(values[target + r * db + c], 1.0 - product(row + r, c), 1e-14) << run;
+      EXPECT_EQ(values[target + rows * db], 1.0);  // nothing beyond the run
     }
   }
 }
