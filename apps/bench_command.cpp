@@ -95,7 +95,9 @@ Command add_bench_command(CLI::App& app) {
     const double gflops = flops / (mine.factor_us * 1e3);
     if (o->json) {
       nlohmann::json j = {{"matrix", p.name}, {"n", p.a.n}, {"blocks", p.blocks.num_blocks()},
-                          {"ordering", ordering.name}, {"flops", flops}, {"gflops", number(gflops)}};
+                          {"ordering", ordering.name}, {"flops", flops}, {"gflops", number(gflops)},
+                          {"symbolic_bytes", ours->symbolic().memory_bytes()},
+                          {"rsi_entries", ours->symbolic().rsi_size()}};
       auto field = [&](const char* key, std::string_view name, double Timing::*member) {
         const Timing* t = find(name);
         j[key] = t ? number(t->*member) : nlohmann::json(nullptr);
@@ -115,8 +117,9 @@ Command add_bench_command(CLI::App& app) {
       j["backward_error"] = errors;
       std::cout << j.dump(2) << '\n';
     } else {
-      std::printf("%s: n = %d, %d blocks, ordering %s, %.0f flops\n", p.name.c_str(), p.a.n, p.blocks.num_blocks(),
-                  ordering.name.c_str(), flops);
+      std::printf("%s: n = %d, %d blocks, ordering %s, %.0f flops, symbolic phase holds %lld bytes\n", p.name.c_str(),
+                  p.a.n, p.blocks.num_blocks(), ordering.name.c_str(), flops,
+                  static_cast<long long>(ours->symbolic().memory_bytes()));
       std::printf("%-20s %12s %12s %12s %14s %16s\n", "solver", "factor us", "solve us", "GFlop/s",
                   "backward err", "fact+solve ratio");
       for (const Timing& t : timings) {

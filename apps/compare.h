@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "factor/verify.h"
 #include "ordering/metrics.h"
 #include "sparse/cholmod_adapter.h"
 
@@ -41,5 +42,10 @@ void print_table(std::FILE* out, const Problem& p, const std::vector<Row>& rows)
 // best of each row in bold.
 void print_markdown_by_metric(std::FILE* out, const std::vector<std::pair<Problem, std::vector<Row>>>& results);
 nlohmann::json to_json(const Problem& p, const std::vector<Row>& rows);
+
+// The block LDL^T against CHOLMOD (factor/verify.h), one row per problem, as text or Markdown
+// (verify_command.cpp).
+void print_verification_table(std::FILE* out, const std::vector<std::pair<std::string, Verification>>& rows,
+                              bool markdown);
 
 }  // namespace ldlpgs::cli

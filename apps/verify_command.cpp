@@ -55,6 +55,29 @@ void print(const Problem& p, const Verification& v) {
 
 }  // namespace
 
+void print_verification_table(std::FILE* out, const std::vector<std::pair<std::string, Verification>>& rows,
+                              bool markdown) {
+  const char* header[] = {"problem", "ordering", "cond_1", "L diff", "D diff", "x diff", "tolerance",
+                          "backward err", "CHOLMOD b. err", "agree"};
+  if (markdown) {
+    std::fprintf(out, "|");
+    for (const char* h : header) std::fprintf(out, " %s |", h);
+    std::fprintf(out, "\n|");
+    for (size_t i = 0; i < std::size(header); ++i) std::fprintf(out, "---|");
+    std::fprintf(out, "\n");
+  } else {
+    std::fprintf(out, "%-16s %-8s %9s %9s %9s %9s %9s %12s %14s %6s\n", header[0], header[1], header[2], header[3],
+                 header[4], header[5], header[6], header[7], header[8], header[9]);
+  }
+  for (const auto& [name, v] : rows) {
+    const char* agree = v.ok ? "yes" : (markdown ? "**no**" : "NO");
+    const char* format = markdown ? "| %s | %s | %.1e | %.1e | %.1e | %.1e | %.0e | %.1e | %.1e | %s |\n"
+                                  : "%-16s %-8s %9.1e %9.1e %9.1e %9.1e %9.0e %12.1e %14.1e %6s\n";
+    std::fprintf(out, format, name.c_str(), v.ordering.c_str(), v.condition_estimate, v.L_rel_diff, v.D_rel_diff,
+                 v.x_rel_diff, v.factor_tolerance, v.backward_error, v.backward_error_cholmod, agree);
+  }
+}
+
 Command add_verify_command(CLI::App& app) {
   struct Options {
     std::string matrix, blocks = "auto", ordering = "meca";
