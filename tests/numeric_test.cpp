@@ -7,6 +7,8 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <cstdlib>
+#include <new>
 #include <filesystem>
 #include <limits>
 #include <string>
@@ -17,6 +19,25 @@
 #include "sparse/mechanism_matrix.h"
 #include "sparse/partition.h"
 #include "tests/test_matrices.h"
+
+// Every allocation through operator new is counted while `counting` is set: the numeric phase
+// must allocate nothing (its memory comes from the constructor, sized by the symbolic phase).
+namespace {
+bool counting = false;
+int64_t allocations = 0;
+}  // namespace
+
+// GCC warns that free() receives memory from operator new; here operator new is malloc.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+void* operator new(std::size_t size) {
+  if (counting) ++allocations;
+  if (void* p = std::malloc(size ? size : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#pragma GCC diagnostic pop
 
 namespace ldlpgs {
 namespace {
@@ -281,6 +302,33 @@ TEST(Numeric, SeveralRightHandSidesAndReuse) {
       EXPECT_EQ(x[j * ld + n], b[j * ld + n]);  // padding untouched
     }
   }
+}
+
+TEST(Numeric, FactorizeAndSolveAllocateNothing) {
+  for (const char* family : {"grid", "heavy"}) {
+    const BodyGraph g = make_family(family, 30);
+    const BlockPattern blocks = constraint_graph(g);
+    const SymmetricCsc h = mechanism_matrix(g);
+    const Symbolic s = analyze(h, blocks);
+    Numeric f(s);
+    std::vector<double> x(h.n, 1.0), many(3 * h.n, 1.0);
+    allocations = 0;
+    counting = true;
+    const FactorInfo info = f.factorize(h, {.regularization = 1e-9});
+    f.solve(x);
+    f.solve(many.data(), 3, h.n);
+    counting = false;
+    EXPECT_EQ(info.status, FactorStatus::ok);
+    EXPECT_EQ(allocations, 0) << family;
+  }
+  // The counter itself works: a vector allocates (its data escapes, so the allocation stays).
+  allocations = 0;
+  counting = true;
+  std::vector<double> v(10);
+  [[maybe_unused]] static double* volatile escape;
+  escape = v.data();
+  counting = false;
+  EXPECT_EQ(allocations, 1);
 }
 
 }  // namespace
