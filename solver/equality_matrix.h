@@ -1,0 +1,44 @@
+#pragma once
+// Internal to solver/: H_0 = J_0 W J_0^T over the equality blocks (the talk's block 0 of
+// LDL-PGS), in a fixed scalar pattern so that one symbolic phase serves every step.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "solver/system.h"
+#include "sparse/block_pattern.h"
+#include "sparse/csc.h"
+
+namespace ldlpgs {
+
+class EqualityMatrix {
+ public:
+  EqualityMatrix() = default;
+  // The pattern: every pair of equality blocks sharing a column is a dense block of H_0.
+  explicit EqualityMatrix(const System& structure);
+
+  // H_0's values for this step (no compliance: the factorization adds eps diag(H_0)).
+  void assemble(const System& system);
+
+  const SymmetricCsc& matrix() const { return h_; }
+  const BlockPattern& blocks() const { return blocks_; }
+  int num_rows() const { return h_.n; }
+  // block_of[e] = the System block of equality block e (size num equality blocks)
+  std::span<const int> system_blocks() const { return system_block_; }
+
+ private:
+  // One product J_x W_c J_y^T of two equality blocks x <= y (in system order) sharing column c.
+  struct Product {
+    int x, y;           // System blocks
+    int side_x, side_y; // 0: the block's column a, 1: column b
+    int column;
+    int64_t index;      // first of size_x * size_y entries in index_
+  };
+  SymmetricCsc h_;
+  BlockPattern blocks_;
+  std::vector<int> system_block_;  // (size equality blocks)
+  std::vector<Product> products_;  // (size number of products)
+  std::vector<int64_t> index_;     // position in h_.values of each product entry (rx, ry), row-major; -1: upper half
+};
+
+}  // namespace ldlpgs

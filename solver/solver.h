@@ -1,0 +1,81 @@
+#pragma once
+// solver/: the constraint solvers of one step, on rows (system.h), free of rigid-body types.
+//
+//   system.h           System: J (block sparse, one block per constraint), W, bounds, R, eps
+//   row_cache.cpp      per-step W J^T rows and diag(H): what PGS reads (the talk's impulse form)
+//   pgs.cpp            pgs       projected Gauss-Seidel on rows, dV kept up to date, no H built
+//   block_gs.cpp       block-gs  Gauss-Seidel over constraint blocks, each solved exactly by its
+//                                small dense N_i; single-row inequality blocks projected
+//   equality_matrix.h  H = J_0 W J_0^T + eps diag over the equality blocks, fixed pattern
+//   ldl_pgs.cpp        ldl-pgs   the talk's hybrid: N-1 PGS iterations, then one block GS
+//                                iteration with all equality rows as one block solved by the
+//                                sparse block LDL^T (factor/), inequality rows projected one by one
+//   direct.cpp         direct    equality-only systems solved exactly by the LDL^T: the reference
+//
+// The symbolic phase (H's pattern, ordering, Symbolic) runs in the constructor, once per
+// structure; solve() is the numeric phase, every step, and may be called with any System of the
+// same structure. Lambda is warm-started: solve() starts from the lambda it is given.
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "factor/numeric.h"
+#include "solver/system.h"
+#include "sparse/csc.h"
+
+namespace ldlpgs {
+
+enum class SolverKind { pgs, block_gs, ldl_pgs, direct };
+const char* to_string(SolverKind kind);
+bool solver_kind_from_string(std::string_view name, SolverKind* kind);  // false: unknown name
+std::span<const char* const> solver_names();
+
+struct SolverOptions {
+  SolverKind kind = SolverKind::ldl_pgs;
+  // Iterations over all rows: pgs and block-gs do this many sweeps; ldl-pgs does iterations - 1
+  // PGS sweeps and one block GS sweep (the talk's N-1 + 1); direct ignores it.
+  int iterations = 10;
+  std::string ordering = "meca";  // elimination ordering of H's blocks (ordering/)
+};
+
+struct SolveResult {
+  FactorInfo factor;     // ldl-pgs, direct: the LDL^T's status (ok when not factored)
+  bool ok() const { return factor.usable(); }
+};
+
+class SolverState;  // the per-structure workspace and symbolic phase
+
+class Solver {
+ public:
+  // Symbolic phase for the structure of `system` (only its blocks, columns and bounds are read).
+  // direct on a system with inequality blocks is a programmer error (callers check first).
+  Solver(const System& system, const SolverOptions& options);
+  ~Solver();
+  Solver(Solver&&) noexcept;
+  Solver& operator=(Solver&&) noexcept;
+
+  // Numeric phase. lambda (size num_rows): warm start in, impulses out. dv (size 6 num_columns):
+  // out, W J^T lambda.
+  SolveResult solve(const System& system, std::span<double> lambda, std::span<double> dv);
+
+  const SolverOptions& options() const { return options_; }
+  // The LDL^T's symbolic phase (ldl-pgs, direct), or null.
+  const class Symbolic* symbolic() const;
+
+ private:
+  SolverOptions options_;
+  std::unique_ptr<SolverState> state_;
+};
+
+// The velocity residual, max over rows (m/s or rad/s): |J_i dV - R_i| on rows that must meet
+// their target (unbounded, or lambda strictly inside its bounds); on a row whose lambda sits at a
+// bound, only the side the bound forbids (lower: J_i dV < R_i, upper: J_i dV > R_i).
+double velocity_residual(const System& system, std::span<const double> lambda, std::span<const double> dv);
+
+// H_0 + eps diag(H_0), H_0 = J_0 W J_0^T over the equality blocks: the matrix ldl-pgs and direct
+// factor, lower triangle, and its block sizes (the equality blocks' rows, in order).
+SymmetricCsc equality_matrix(const System& system, std::vector<int>* block_sizes);
+
+}  // namespace ldlpgs

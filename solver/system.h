@@ -1,0 +1,56 @@
+#pragma once
+// The impulse problem of one step, in rows (the talk's "velocity step"): find lambda with
+//   (H + eps diag(H)) lambda = R on equality rows,  H = J W J^T,
+// and lambda_i in [lower_i, upper_i] with complementarity on bounded rows, where
+// R = target - J (V0 + W F dt) and the velocity change is dV = W J^T lambda.
+// The solver sees rows, blocks and bounds only: columns come in velocity blocks of 6 (a rigid
+// body's v and w, but the solver does not know that) and W is block diagonal over them.
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+namespace ldlpgs {
+
+constexpr int kVelocityBlock = 6;  // columns per velocity block
+constexpr double kUnbounded = std::numeric_limits<double>::infinity();
+
+// One constraint: `size` rows from `position`, coupling velocity blocks column_a and column_b
+// (-1: none, e.g. a static body). Its Jacobian cells are two size x 6 row-major matrices, a then
+// b, at `offset` in System::jacobian (a missing column's cell is stored and ignored).
+struct RowBlock {
+  int size = 0;
+  int position = 0;
+  int column_a = -1, column_b = -1;
+  int64_t offset = 0;
+  bool equality = true;  // every row unbounded: part of the LDL block in ldl-pgs
+};
+
+struct System {
+  int num_columns = 0;                // velocity blocks
+  int num_rows = 0;
+  std::vector<RowBlock> blocks;       // (size num_blocks), rows in block order
+  std::vector<double> jacobian;       // cells (size 12 * num_rows)
+  std::vector<double> inverse_mass;   // W: one 6x6 row-major symmetric block per column block (size 36 * num_columns)
+  std::vector<double> lower, upper;   // bounds on lambda per row (size num_rows); equality rows +-kUnbounded
+  std::vector<double> rhs;            // R per row (size num_rows)
+  double compliance = 0;              // eps: the solver works on H + eps diag(H)
+
+  // Appends a block of `size` rows; returns its index. Its cells, bounds and rhs start at zero
+  // and unbounded.
+  int add_block(int size, int column_a, int column_b);
+  double* cell_a(int block) { return jacobian.data() + blocks[block].offset; }
+  double* cell_b(int block) { return cell_a(block) + 6 * blocks[block].size; }
+  const double* cell_a(int block) const { return jacobian.data() + blocks[block].offset; }
+  const double* cell_b(int block) const { return cell_a(block) + 6 * blocks[block].size; }
+  // Marks a block as bounded on all its rows (an inequality).
+  void set_bounds(int block, double lower_bound, double upper_bound);
+  // Same blocks, columns and bounds kinds (the structure a solver's symbolic phase depends on).
+  bool same_structure(const System& other) const;
+};
+
+// y = J x (x: num_columns * 6, y: num_rows) and x += W J^T lambda.
+void multiply_jacobian(const System& system, std::span<const double> x, std::span<double> y);
+void add_velocity_change(const System& system, std::span<const double> lambda, std::span<double> dv);
+
+}  // namespace ldlpgs

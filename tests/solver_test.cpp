@@ -1,0 +1,233 @@
+// solver/ against dense references: the exact solve of (H + eps diag H) lambda = R with
+// H = J W J^T built densely from the same J and W, and, with inequality rows, the mixed LCP
+// solved by enumerating active sets.
+#include "solver/solver.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace ldlpgs {
+namespace {
+
+struct Dense {
+  Eigen::MatrixXd j, w;  // J (rows x 6 columns), W (block diagonal)
+};
+
+// A chain-like random system: block k couples columns k mod c and (k+1) mod c (or a static
+// -1 for every 4th), W = blockdiag(I/m, R diag(1/I) R^T).
+System random_system(int num_columns, std::span<const int> sizes, const std::vector<bool>& bounded, uint32_t seed,
+                     double compliance = 0) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1), pos(0.5, 2);
+  System s;
+  s.num_columns = num_columns;
+  s.compliance = compliance;
+  s.inverse_mass.assign(36 * num_columns, 0.0);
+  for (int c = 0; c < num_columns; ++c) {
+    const Eigen::Matrix3d r = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+    const Eigen::Matrix3d inv_i = r * Eigen::Vector3d(pos(rng), pos(rng), pos(rng)).asDiagonal() * r.transpose();
+    const double inv_m = pos(rng);
+    double* w = s.inverse_mass.data() + 36 * c;
+    for (int i = 0; i < 3; ++i) {
+      w[6 * i + i] = inv_m;
+      for (int j = 0; j < 3; ++j) w[6 * (3 + i) + 3 + j] = inv_i(i, j);
+    }
+  }
+  for (size_t k = 0; k < sizes.size(); ++k) {
+    const int a = static_cast<int>(k) % num_columns;
+    const int b = k % 4 == 3 ? -1 : (a + 1) % num_columns;
+    const int blk = s.add_block(sizes[k], a, b);
+    for (int x = 0; x < 12 * sizes[k]; ++x) s.cell_a(blk)[x] = u(rng);
+    if (bounded[k]) s.set_bounds(blk, 0, kUnbounded);
+  }
+  for (double& r : s.rhs) r = u(rng);
+  return s;
+}
+
+Dense dense(const System& s) {
+  Dense d{Eigen::MatrixXd::Zero(s.num_rows, 6 * s.num_columns), Eigen::MatrixXd::Zero(6 * s.num_columns, 6 * s.num_columns)};
+  for (int k = 0; k < static_cast<int>(s.blocks.size()); ++k) {
+    const RowBlock& b = s.blocks[k];
+    for (int r = 0; r < b.size; ++r)
+      for (int c = 0; c < 6; ++c) {
+        if (b.column_a >= 0) d.j(b.position + r, 6 * b.column_a + c) += s.cell_a(k)[6 * r + c];
+        if (b.column_b >= 0) d.j(b.position + r, 6 * b.column_b + c) += s.cell_b(k)[6 * r + c];
+      }
+  }
+  for (int c = 0; c < s.num_columns; ++c)
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j < 6; ++j) d.w(6 * c + i, 6 * c + j) = s.inverse_mass[36 * c + 6 * i + j];
+  return d;
+}
+
+Eigen::MatrixXd regularized_h(const System& s) {
+  const Dense d = dense(s);
+  Eigen::MatrixXd h = d.j * d.w * d.j.transpose();
+  h.diagonal() *= 1 + s.compliance;
+  return h;
+}
+
+// The mixed LCP: equality rows free, bounded rows lambda >= 0, w = H lambda - R >= 0,
+// lambda . w = 0, by trying every active set of the bounded rows.
+Eigen::VectorXd lcp_by_enumeration(const System& s) {
+  const Eigen::MatrixXd h = regularized_h(s);
+  const Eigen::Map<const Eigen::VectorXd> rhs(s.rhs.data(), s.num_rows);
+  std::vector<int> bounded;
+  for (int i = 0; i < s.num_rows; ++i)
+    if (s.lower[i] == 0) bounded.push_back(i);
+  for (int mask = 0; mask < (1 << bounded.size()); ++mask) {  // bit set: row at its bound (lambda = 0)
+    std::vector<int> free;
+    std::vector<bool> zero(s.num_rows, false);
+    for (size_t t = 0; t < bounded.size(); ++t)
+      if (mask >> t & 1) zero[bounded[t]] = true;
+    for (int i = 0; i < s.num_rows; ++i)
+      if (!zero[i]) free.push_back(i);
+    Eigen::MatrixXd hf(free.size(), free.size());
+    Eigen::VectorXd rf(free.size());
+    for (size_t p = 0; p < free.size(); ++p) {
+      rf(p) = rhs(free[p]);
+      for (size_t q = 0; q < free.size(); ++q) hf(p, q) = h(free[p], free[q]);
+    }
+    const Eigen::VectorXd lf = hf.ldlt().solve(rf);
+    Eigen::VectorXd lambda = Eigen::VectorXd::Zero(s.num_rows);
+    for (size_t p = 0; p < free.size(); ++p) lambda(free[p]) = lf(p);
+    const Eigen::VectorXd w = h * lambda - rhs;
+    bool ok = true;
+    for (int i : bounded) ok = ok && lambda(i) >= -1e-12 && w(i) >= -1e-12;
+    if (ok) return lambda;
+  }
+  ADD_FAILURE() << "no active set solves the LCP";
+  return {};
+}
+
+struct Outcome {
+  std::vector<double> lambda, dv;
+  SolveResult result;
+};
+
+Outcome run(const System& s, SolverKind kind, int iterations, std::vector<double> warm = {}) {
+  Solver solver(s, {.kind = kind, .iterations = iterations});
+  Outcome r{warm.empty() ? std::vector<double>(s.num_rows, 0.0) : warm, std::vector<double>(6 * s.num_columns, 0.0), {}};
+  r.result = solver.solve(s, r.lambda, r.dv);
+  return r;
+}
+
+double max_diff(std::span<const double> a, const Eigen::VectorXd& b) {
+  double m = 0;
+  for (size_t i = 0; i < a.size(); ++i) m = std::max(m, std::abs(a[i] - b(i)));
+  return m / std::max(1.0, b.cwiseAbs().maxCoeff());
+}
+
+const std::vector<int> kSizes = {3, 5, 6, 4, 1, 3, 5, 2, 6, 3, 1, 5};
+const std::vector<bool> kAllEquality(kSizes.size(), false);
+
+TEST(Solver, DirectMatchesDenseSolve) {
+  for (double eps : {0.0, 1e-6}) {
+    const System s = random_system(13, kSizes, kAllEquality, 7, eps);
+    const Eigen::VectorXd expected = regularized_h(s).ldlt().solve(Eigen::Map<const Eigen::VectorXd>(s.rhs.data(), s.num_rows));
+    const Outcome r = run(s, SolverKind::direct, 1);
+    ASSERT_TRUE(r.result.ok()) << r.result.factor.message();
+    EXPECT_LT(max_diff(r.lambda, expected), 1e-10) << "eps " << eps;
+    // dV = W J^T lambda, the impulses' velocity change
+    const Dense d = dense(s);
+    const Eigen::VectorXd dv = d.w * d.j.transpose() * Eigen::Map<const Eigen::VectorXd>(r.lambda.data(), s.num_rows);
+    EXPECT_LT(max_diff(r.dv, dv), 1e-10);
+    if (eps == 0) {
+      EXPECT_LT(velocity_residual(s, r.lambda, r.dv), 1e-10);
+    }
+  }
+}
+
+TEST(Solver, LdlPgsWithOneIterationIsTheExactSolveOnEqualities) {
+  const System s = random_system(13, kSizes, kAllEquality, 8);
+  const Eigen::VectorXd expected = regularized_h(s).ldlt().solve(Eigen::Map<const Eigen::VectorXd>(s.rhs.data(), s.num_rows));
+  for (const char* ordering : {"natural", "mda", "meca", "amd", "metis"}) {
+    Solver solver(s, {.kind = SolverKind::ldl_pgs, .iterations = 1, .ordering = ordering});
+    std::vector<double> lambda(s.num_rows, 0.3), dv(6 * s.num_columns);  // any warm start
+    ASSERT_TRUE(solver.solve(s, lambda, dv).ok());
+    EXPECT_LT(max_diff(lambda, expected), 1e-10) << ordering;
+  }
+}
+
+TEST(Solver, IterativeSolversConvergeToTheExactSolve) {
+  // Well conditioned: one block per column pair, a tree, so PGS converges at a visible rate.
+  const std::vector<int> sizes = {3, 3, 3, 3, 3};
+  const System s = random_system(6, sizes, std::vector<bool>(sizes.size(), false), 9, 0.0);
+  const Eigen::VectorXd expected = regularized_h(s).ldlt().solve(Eigen::Map<const Eigen::VectorXd>(s.rhs.data(), s.num_rows));
+  for (SolverKind kind : {SolverKind::pgs, SolverKind::block_gs}) {
+    const double few = max_diff(run(s, kind, 5).lambda, expected);
+    const double many = max_diff(run(s, kind, 3000).lambda, expected);
+    EXPECT_LT(many, 1e-8) << to_string(kind);
+    EXPECT_LT(many, few) << to_string(kind);
+  }
+}
+
+TEST(Solver, InequalitiesMatchTheLcpByEnumeration) {
+  const std::vector<int> sizes = {3, 1, 5, 1, 3, 1, 4};
+  const std::vector<bool> bounded = {false, true, false, true, false, true, false};
+  for (uint32_t seed = 1; seed <= 5; ++seed) {
+    const System s = random_system(6, sizes, bounded, seed, 1e-3);
+    const Eigen::VectorXd expected = lcp_by_enumeration(s);
+    for (SolverKind kind : {SolverKind::pgs, SolverKind::block_gs, SolverKind::ldl_pgs}) {
+      const Outcome r = run(s, kind, 4000);
+      ASSERT_TRUE(r.result.ok());
+      EXPECT_LT(max_diff(r.lambda, expected), 1e-7) << to_string(kind) << " seed " << seed;
+      for (int i = 0; i < s.num_rows; ++i) EXPECT_GE(r.lambda[i], s.lower[i]);
+    }
+  }
+}
+
+TEST(Solver, LdlPgsBeatsPgsAtTheSameIterationCount) {
+  const System s = random_system(13, kSizes, kAllEquality, 10, 1e-6);
+  const Eigen::VectorXd expected = regularized_h(s).ldlt().solve(Eigen::Map<const Eigen::VectorXd>(s.rhs.data(), s.num_rows));
+  const double pgs = max_diff(run(s, SolverKind::pgs, 10).lambda, expected);
+  const double ldl = max_diff(run(s, SolverKind::ldl_pgs, 10).lambda, expected);
+  std::printf("max relative impulse error after 10 iterations: pgs %.3g, ldl-pgs %.3g\n", pgs, ldl);
+  EXPECT_LT(ldl, 1e-9);
+  EXPECT_GT(pgs, 1e3 * ldl);
+}
+
+TEST(Solver, WarmStartFromTheSolutionStaysThere) {
+  const System s = random_system(13, kSizes, kAllEquality, 11, 1e-6);
+  const Outcome exact = run(s, SolverKind::direct, 1);
+  for (SolverKind kind : {SolverKind::pgs, SolverKind::block_gs, SolverKind::ldl_pgs}) {
+    const Outcome r = run(s, kind, 3, exact.lambda);
+    Eigen::VectorXd e = Eigen::Map<const Eigen::VectorXd>(exact.lambda.data(), s.num_rows);
+    EXPECT_LT(max_diff(r.lambda, e), 1e-9) << to_string(kind);
+  }
+}
+
+TEST(Solver, RedundantRowsNeedCompliance) {
+  // Two identical blocks on the same columns: H is singular (a redundant loop's rows).
+  System s = random_system(2, std::vector<int>{3, 3}, std::vector<bool>{false, false}, 12);
+  s.blocks[1].column_a = s.blocks[0].column_a;
+  s.blocks[1].column_b = s.blocks[0].column_b;
+  std::copy(s.cell_a(0), s.cell_a(0) + 36, s.cell_a(1));
+  const Outcome singular = run(s, SolverKind::direct, 1);
+  EXPECT_EQ(singular.result.factor.status, FactorStatus::zero_pivot) << singular.result.factor.message();
+  s.compliance = 1e-8;
+  const Outcome regular = run(s, SolverKind::direct, 1);
+  ASSERT_TRUE(regular.result.ok()) << regular.result.factor.message();
+  // consistent right-hand side: the same targets on both copies; the impulse splits evenly
+  std::copy(s.rhs.begin(), s.rhs.begin() + 3, s.rhs.begin() + 3);
+  const Outcome split = run(s, SolverKind::direct, 1);
+  for (int r = 0; r < 3; ++r) EXPECT_NEAR(split.lambda[r], split.lambda[3 + r], 1e-6 * std::abs(split.lambda[r]) + 1e-12);
+  EXPECT_LT(velocity_residual(s, split.lambda, split.dv), 1e-6);
+}
+
+TEST(Solver, NamesRoundTrip) {
+  for (const char* name : solver_names()) {
+    SolverKind kind;
+    ASSERT_TRUE(solver_kind_from_string(name, &kind));
+    EXPECT_STREQ(to_string(kind), name);
+  }
+  SolverKind kind;
+  EXPECT_FALSE(solver_kind_from_string("gauss-seidel", &kind));
+}
+
+}  // namespace
+}  // namespace ldlpgs
