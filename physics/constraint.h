@@ -1,0 +1,83 @@
+#pragma once
+// Constraints between two rigid bodies, as the talk defines them: a differentiable position error
+// c(bodies) in R^d, zero when the constraint holds, regular (its Jacobian has rank d) on its zero
+// set. The velocity rows are dc/dt = J V with V = (v_a, w_a, v_b, w_b), world frame.
+//
+// A tagged type dispatched by a switch (constraint.cpp); every type has the same verbs:
+//   make_*     build it from world-frame anchors and axes at the initial pose (scene files give
+//              those); anchors and axes are stored in each body's own frame.
+//   evaluate   c, J and the row kinds at the current pose.
+//
+//   type              rows  removes                                  kind
+//   ball                 3  relative translation of the anchor       equality
+//   hinge                5  ball + 2 rows aligning the axes          equality
+//   prismatic            5  all rotation + translation across axis   equality
+//   cylindrical          4  translation across and rotation off axis equality
+//   weld                 6  everything (rigid)                       equality
+//   rod                  1  change of the anchors' distance          equality
+//   rope                 1  distance above the length                inequality
+//   angular_limit        1  hinge angle about the axis out of range  inequality
+//   positional_limit     1  slide along the axis out of range        inequality
+#include <array>
+#include <span>
+#include <string_view>
+
+#include <Eigen/Core>
+
+#include "physics/body.h"
+
+namespace ldlpgs {
+
+enum class ConstraintType { ball, hinge, prismatic, cylindrical, weld, rod, rope, angular_limit, positional_limit };
+
+constexpr int kMaxConstraintRows = 6;
+int num_rows(ConstraintType type);
+bool is_equality(ConstraintType type);
+const char* to_string(ConstraintType type);
+// false if `name` is not a type name (as scene files spell it)
+bool constraint_type_from_string(std::string_view name, ConstraintType* type);
+
+struct Constraint {
+  ConstraintType type = ConstraintType::ball;
+  int body_a = -1, body_b = -1;  // indices into the mechanism's bodies; a != b
+  // The anchor point in each body's frame (rod, rope: the two attachment points; else the same
+  // world point at the initial pose).
+  Eigen::Vector3d anchor_a = Eigen::Vector3d::Zero(), anchor_b = Eigen::Vector3d::Zero();
+  // Orthonormal frames (columns u, w, n; n = the axis) in each body's frame, equal in the world
+  // at the initial pose. Ball, rod and rope ignore them.
+  Eigen::Matrix3d frame_a = Eigen::Matrix3d::Identity(), frame_b = Eigen::Matrix3d::Identity();
+  double length = 0;             // rod, rope (m)
+  double min = 0, max = 0;       // limits: radians (angular_limit) or metres (positional_limit)
+};
+
+// Rows of one constraint at the current pose. For an inequality the row is the nearer side of
+// the limit written as c >= 0 (rope: length - distance; limits: value - min or max - value), so
+// its impulse is lambda >= 0 (the solver's bounds).
+struct ConstraintRows {
+  int rows = 0;
+  std::array<double, kMaxConstraintRows> c{};             // position error
+  std::array<bool, kMaxConstraintRows> angular{};         // radians (true) or metres (false)
+  // dc/dt = J V, one row of 12 per constraint row: [v_a w_a v_b w_b] (row-major, rows x 12)
+  std::array<double, kMaxConstraintRows * 12> jacobian{};
+};
+
+ConstraintRows evaluate(const Constraint& constraint, const RigidBody& a, const RigidBody& b);
+
+// Builders from world-frame data at the bodies' current pose. `axis` need not be unit; a zero
+// axis is a programmer error here (scene files are validated before).
+Constraint make_ball(int ia, const RigidBody& a, int ib, const RigidBody& b, const Eigen::Vector3d& anchor);
+Constraint make_axial(ConstraintType type, int ia, const RigidBody& a, int ib, const RigidBody& b,
+                      const Eigen::Vector3d& anchor, const Eigen::Vector3d& axis);  // hinge, prismatic, cylindrical, weld
+// rod, rope: anchors on a and b; length < 0 means the current distance.
+Constraint make_distance(ConstraintType type, int ia, const RigidBody& a, int ib, const RigidBody& b,
+                         const Eigen::Vector3d& anchor_on_a, const Eigen::Vector3d& anchor_on_b, double length = -1);
+Constraint make_angular_limit(int ia, const RigidBody& a, int ib, const RigidBody& b, const Eigen::Vector3d& axis,
+                              double min, double max);
+Constraint make_positional_limit(int ia, const RigidBody& a, int ib, const RigidBody& b, const Eigen::Vector3d& anchor,
+                                 const Eigen::Vector3d& axis, double min, double max);
+
+// The hinge angle of b relative to a about the axis (angular_limit; 0 at the initial pose), and
+// the slide of b's anchor along a's axis (positional_limit; 0 at the initial pose).
+double limit_value(const Constraint& constraint, const RigidBody& a, const RigidBody& b);
+
+}  // namespace ldlpgs

@@ -1,0 +1,86 @@
+// A mechanism's bookkeeping and its two graphs (the talk's symbolic phase starts here).
+#include "physics/mechanism.h"
+
+#include <cassert>
+#include <utility>
+
+namespace ldlpgs {
+
+int Mechanism::find_body(std::string_view body_name) const {
+  for (size_t b = 0; b < bodies.size(); ++b)
+    if (bodies[b].name == body_name) return static_cast<int>(b);
+  return -1;
+}
+
+int Mechanism::add_body(RigidBody body) {
+  assert(body.is_static || (body.mass > 0 && body.inertia.minCoeff() > 0));
+  bodies.push_back(std::move(body));
+  return static_cast<int>(bodies.size()) - 1;
+}
+
+int Mechanism::add_constraint(Constraint constraint) {
+  const int n = static_cast<int>(bodies.size());
+  assert(constraint.body_a >= 0 && constraint.body_a < n && constraint.body_b >= 0 && constraint.body_b < n);
+  assert(constraint.body_a != constraint.body_b);
+  assert(!(bodies[constraint.body_a].is_static && bodies[constraint.body_b].is_static));
+  static_cast<void>(n);
+  constraints.push_back(std::move(constraint));
+  return static_cast<int>(constraints.size()) - 1;
+}
+
+int Mechanism::num_rows() const {
+  int rows = 0;
+  for (const Constraint& c : constraints) rows += ldlpgs::num_rows(c.type);
+  return rows;
+}
+
+int Mechanism::num_dynamic_bodies() const {
+  int n = 0;
+  for (const RigidBody& b : bodies) n += b.is_static ? 0 : 1;
+  return n;
+}
+
+// Two constraints are adjacent iff they share a dynamic body: H_ij = J_i W J_j^T sums over the
+// bodies both touch, and W = 0 on a static body. Grouping the constraints by body gives the
+// edges in O(sum over bodies of degree^2), the size of the output, instead of testing all pairs.
+BlockPattern Mechanism::constraint_graph(bool equality_only) const {
+  std::vector<int> block_of(constraints.size(), -1);  // constraint -> block, -1 if left out (size constraints)
+  std::vector<int> sizes;                             // rows per block (size blocks)
+  for (size_t c = 0; c < constraints.size(); ++c) {
+    if (equality_only && !is_equality(constraints[c].type)) continue;
+    block_of[c] = static_cast<int>(sizes.size());
+    sizes.push_back(ldlpgs::num_rows(constraints[c].type));
+  }
+  // The blocks on each body, as compressed rows (ptr size bodies+1, blocks_on size 2 * blocks).
+  const size_t nb = bodies.size();
+  std::vector<int> ptr(nb + 1, 0), blocks_on;
+  auto each_dynamic_end = [&](auto&& visit) {
+    for (size_t c = 0; c < constraints.size(); ++c) {
+      if (block_of[c] < 0) continue;
+      for (int body : {constraints[c].body_a, constraints[c].body_b})
+        if (!bodies[body].is_static) visit(body, block_of[c]);
+    }
+  };
+  each_dynamic_end([&](int body, int) { ++ptr[body + 1]; });
+  for (size_t b = 0; b < nb; ++b) ptr[b + 1] += ptr[b];
+  blocks_on.resize(ptr[nb]);
+  std::vector<int> next(ptr.begin(), ptr.end() - 1);
+  each_dynamic_end([&](int body, int block) { blocks_on[next[body]++] = block; });
+
+  std::vector<std::pair<int, int>> edges;
+  for (size_t b = 0; b < nb; ++b) {
+    for (int i = ptr[b]; i < ptr[b + 1]; ++i)
+      for (int j = ptr[b]; j < i; ++j) edges.emplace_back(blocks_on[j], blocks_on[i]);
+  }
+  // graph_from_edges merges the duplicates (two constraints sharing both their bodies).
+  return BlockPattern(sizes, graph_from_edges(static_cast<int>(sizes.size()), edges));
+}
+
+std::vector<std::pair<int, int>> Mechanism::body_graph() const {
+  std::vector<std::pair<int, int>> edges;
+  edges.reserve(constraints.size());
+  for (const Constraint& c : constraints) edges.emplace_back(c.body_a, c.body_b);
+  return edges;
+}
+
+}  // namespace ldlpgs

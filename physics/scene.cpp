@@ -1,0 +1,584 @@
+// Scene files. The format (orientation is [w, x, y, z]; anchors and axes are world frame at the
+// initial pose):
+//   {"name": "...", "gravity": [0, -9.81, 0], "timestep": 0.01,
+//    "bodies": [{"name": "b1", "mass": 1, "inertia": [Ix, Iy, Iz], "position": [x, y, z],
+//                "orientation": [w, x, y, z], "linear_velocity": [..], "angular_velocity": [..]},
+//               {"name": "ground", "static": true, "position": [x, y, z], "orientation": [..]}],
+//    "constraints": [{"type": "ball" | "hinge" | "prismatic" | "cylindrical" | "weld",
+//                     "bodies": ["a", "b"], "anchor": [x, y, z], "axis": [x, y, z]},
+//                    {"type": "rod" | "rope", "bodies": ["a", "b"], "anchors": [[..], [..]], "length": l},
+//                    {"type": "angular_limit", "bodies": ["a", "b"], "axis": [..], "min": lo, "max": hi},
+//                    {"type": "positional_limit", "bodies": ["a", "b"], "anchor": [..], "axis": [..],
+//                     "min": lo, "max": hi}]}
+// Optional: the scene's name (default: the file's stem), gravity and timestep (the Mechanism
+// defaults), constraints (none), a body's orientation (identity) and velocities (zero), the axis
+// of a ball (unused) and of a weld (x), the length of a rod or rope (the anchors' initial
+// distance). A static body has only name, static, position and orientation. Every other key is
+// refused, so that a typo ("positon") is never silently a default.
+#include "physics/scene.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <set>
+#include <sstream>
+#include <string_view>
+#include <unordered_map>
+
+#include "sparse/error.h"
+
+namespace ldlpgs {
+
+using nlohmann::json;
+
+namespace {
+
+// Axes, quaternions and rod directions shorter than this are refused: they have no direction.
+constexpr double kTiny = 1e-12;
+
+// The shortest text that reads back as x ("0.1", "inf", "nan").
+std::string format_number(double x) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
+  return std::string(buffer, result.ptr);
+}
+
+std::string format_vector(std::span<const double> v) {
+  std::string s = "[";
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (i) s += ", ";
+    s += format_number(v[i]);
+  }
+  s += "]";
+  return s;
+}
+
+// A JSON value as it appears in a message: one line, cut short if long.
+std::string describe(const json& v) {
+  std::string s = v.dump(-1, ' ', false, json::error_handler_t::replace);
+  if (s.size() > 60) {
+    s.resize(57);
+    s += "...";
+  }
+  return s;
+}
+
+// A name in quotes, escaped as JSON: one line whatever it holds (invalid UTF-8 replaced).
+std::string in_quotes(std::string_view s) {
+  return json(std::string(s)).dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+// Concatenation by appending (GCC 12 warns falsely on "literal" + std::string, DEVELOPERS.md).
+template <typename... Parts>
+std::string cat(const Parts&... parts) {
+  std::string s;
+  (s += ... += parts);
+  return s;
+}
+
+// One object of the file (the scene, a body, a constraint) and how messages name it.
+class Entry {
+ public:
+  Entry(const std::string& source, std::string label, const json& value)
+      : source_(source), label_(std::move(label)), value_(value) {}
+
+  void append_to_label(const std::string& s) { label_ += s; }
+
+  [[noreturn]] void fail(const std::string& problem) const {
+    throw InputError(cat(source_, ": ", label_, label_.empty() ? "" : ": ", problem));
+  }
+
+  void require_object(const char* what) const {
+    if (!value_.is_object()) fail(cat(what, " must be a JSON object, got ", describe(value_)));
+  }
+
+  // Refuses any key not in `keys`; `whose` says for what kind of entry they are the keys.
+  void allow_only(std::initializer_list<std::string_view> keys, const std::string& whose) const {
+    for (auto it = value_.begin(); it != value_.end(); ++it) {
+      if (std::find(keys.begin(), keys.end(), it.key()) != keys.end()) continue;
+      std::string problem = cat("unknown key ", in_quotes(it.key()), " (", whose, " has:");
+      for (auto k = keys.begin(); k != keys.end(); ++k) {
+        problem += k == keys.begin() ? " " : ", ";
+        problem += *k;
+      }
+      fail(problem + ")");
+    }
+  }
+
+  bool has(const char* key) const { return value_.contains(key); }
+
+  const json& required(const char* key) const {
+    const auto it = value_.find(key);
+    if (it == value_.end()) fail(cat("missing ", in_quotes(key)));
+    return *it;
+  }
+
+  std::string string(const char* key) const {
+    const json& v = required(key);
+    if (!v.is_string()) fail(std::string(key) + " must be a string, got " + describe(v));
+    return v.get<std::string>();
+  }
+
+  bool boolean_or(const char* key, bool fallback) const {
+    if (!has(key)) return fallback;
+    const json& v = required(key);
+    if (!v.is_boolean()) fail(std::string(key) + " must be true or false, got " + describe(v));
+    return v.get<bool>();
+  }
+
+  double number(const char* key) const { return number_value(required(key), key); }
+
+  double positive(const char* key) const {
+    const double x = number(key);
+    if (!(x > 0)) fail(std::string(key) + " must be positive, got " + format_number(x));
+    return x;
+  }
+
+  // n finite numbers
+  template <int n>
+  Eigen::Matrix<double, n, 1> numbers(const json& v, const std::string& what) const {
+    if (!v.is_array() || v.size() != static_cast<size_t>(n) ||
+        !std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number(); }))
+      fail(cat(what, " must be an array of ", std::to_string(n), " numbers, got ", describe(v)));
+    Eigen::Matrix<double, n, 1> out;
+    for (int i = 0; i < n; ++i) out[i] = v[i].get<double>();
+    if (!out.allFinite()) fail(what + " must be finite, got " + format_vector({out.data(), static_cast<size_t>(n)}));
+    return out;
+  }
+
+  Eigen::Vector3d vector(const char* key) const { return numbers<3>(required(key), key); }
+
+  Eigen::Vector3d positive_vector(const char* key) const {
+    const Eigen::Vector3d v = vector(key);
+    if (!(v.minCoeff() > 0)) fail(std::string(key) + " must be positive, got " + format_vector({v.data(), 3}));
+    return v;
+  }
+
+  Eigen::Vector3d axis(const char* key) const {
+    const Eigen::Vector3d v = vector(key);
+    if (!(v.stableNorm() >= kTiny))
+      fail(std::string(key) + " must be a non-zero vector, got " + format_vector({v.data(), 3}));
+    return v;
+  }
+
+  Eigen::Quaterniond orientation(const char* key) const {
+    const Eigen::Vector4d wxyz = numbers<4>(required(key), key);
+    const double norm = wxyz.stableNorm();
+    if (!(norm >= kTiny))
+      fail(std::string(key) + " must be a non-zero quaternion [w, x, y, z], got " + format_vector({wxyz.data(), 4}));
+    return Eigen::Quaterniond(wxyz[0] / norm, wxyz[1] / norm, wxyz[2] / norm, wxyz[3] / norm);
+  }
+
+ private:
+  double number_value(const json& v, const std::string& what) const {
+    if (!v.is_number()) fail(what + " must be a number, got " + describe(v));
+    const double x = v.get<double>();
+    if (!std::isfinite(x)) fail(what + " must be finite, got " + format_number(x));
+    return x;
+  }
+
+  const std::string& source_;
+  std::string label_;
+  const json& value_;
+};
+
+// The body's data but its name (read first, to name the entry in messages).
+void parse_body_data(const Entry& e, RigidBody* b) {
+  b->is_static = e.boolean_or("static", false);
+  if (b->is_static) {
+    e.allow_only({"name", "static", "position", "orientation"}, "a static body");
+  } else {
+    e.allow_only(
+        {"name", "static", "mass", "inertia", "position", "orientation", "linear_velocity", "angular_velocity"},
+        "a body");
+    b->mass = e.positive("mass");
+    b->inertia = e.positive_vector("inertia");
+    if (e.has("linear_velocity")) b->linear_velocity = e.vector("linear_velocity");
+    if (e.has("angular_velocity")) b->angular_velocity = e.vector("angular_velocity");
+  }
+  b->position = e.vector("position");
+  if (e.has("orientation")) b->orientation = e.orientation("orientation");
+}
+
+// The two endpoints of a rod or rope.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> parse_anchors(const Entry& e) {
+  const json& v = e.required("anchors");
+  if (!v.is_array() || v.size() != 2) e.fail(cat("anchors must be an array of 2 points [x, y, z], got ", describe(v)));
+  const Eigen::Vector3d p = e.numbers<3>(v[0], "anchors[0]"), q = e.numbers<3>(v[1], "anchors[1]");
+  if (!((p - q).stableNorm() >= kTiny))
+    e.fail(cat("anchors coincide (distance ", format_number((p - q).norm()), " m): a rod or rope needs a direction"));
+  return {p, q};
+}
+
+void check_range(const Entry& e, double min, double max) {
+  if (min > max) e.fail(cat("min (", format_number(min), ") exceeds max (", format_number(max), ")"));
+}
+
+Constraint parse_constraint(const Entry& e, const Mechanism& m,
+                            const std::unordered_map<std::string, int>& index) {
+  const std::string type_name = e.string("type");
+  ConstraintType type;
+  if (!constraint_type_from_string(type_name, &type)) {
+    e.fail(cat("unknown constraint type ", in_quotes(type_name),
+               " (known: ball, hinge, prismatic, cylindrical, weld, rod, rope, angular_limit, positional_limit)"));
+  }
+  const std::string whose = cat("a ", type_name, " constraint");
+  switch (type) {
+    case ConstraintType::ball:
+    case ConstraintType::weld:
+    case ConstraintType::hinge:
+    case ConstraintType::prismatic:
+    case ConstraintType::cylindrical: e.allow_only({"type", "bodies", "anchor", "axis"}, whose); break;
+    case ConstraintType::rod:
+    case ConstraintType::rope: e.allow_only({"type", "bodies", "anchors", "length"}, whose); break;
+    case ConstraintType::angular_limit: e.allow_only({"type", "bodies", "axis", "min", "max"}, whose); break;
+    case ConstraintType::positional_limit:
+      e.allow_only({"type", "bodies", "anchor", "axis", "min", "max"}, whose);
+      break;
+  }
+
+  const json& names = e.required("bodies");
+  if (!names.is_array() || names.size() != 2 || !names[0].is_string() || !names[1].is_string())
+    e.fail(cat("bodies must be an array of 2 body names, got ", describe(names)));
+  int ids[2];
+  for (int k = 0; k < 2; ++k) {
+    const auto it = index.find(names[k].get<std::string>());
+    if (it == index.end()) e.fail(cat("unknown body ", in_quotes(names[k].get<std::string>())));
+    ids[k] = it->second;
+  }
+  const int ia = ids[0], ib = ids[1];
+  if (ia == ib)
+    e.fail(cat("a constraint must join two different bodies, got ", in_quotes(m.bodies[ia].name), " twice"));
+  const RigidBody &a = m.bodies[ia], &b = m.bodies[ib];
+  if (a.is_static && b.is_static)
+    e.fail(cat("constrains two static bodies (", in_quotes(a.name), ", ", in_quotes(b.name), "): it would do nothing"));
+
+  switch (type) {
+    case ConstraintType::ball: {
+      const Eigen::Vector3d anchor = e.vector("anchor");
+      if (e.has("axis")) e.axis("axis");  // allowed (a ball has no axis), but still checked
+      return make_ball(ia, a, ib, b, anchor);
+    }
+    case ConstraintType::weld:
+    case ConstraintType::hinge:
+    case ConstraintType::prismatic:
+    case ConstraintType::cylindrical: {
+      const Eigen::Vector3d anchor = e.vector("anchor");
+      const Eigen::Vector3d axis =
+          type == ConstraintType::weld && !e.has("axis") ? Eigen::Vector3d::UnitX() : e.axis("axis");
+      return make_axial(type, ia, a, ib, b, anchor, axis);
+    }
+    case ConstraintType::rod:
+    case ConstraintType::rope: {
+      const auto [p, q] = parse_anchors(e);
+      const double length = e.has("length") ? e.positive("length") : -1.0;
+      return make_distance(type, ia, a, ib, b, p, q, length);
+    }
+    case ConstraintType::angular_limit: {
+      const Eigen::Vector3d axis = e.axis("axis");
+      const double min = e.number("min"), max = e.number("max");
+      check_range(e, min, max);
+      return make_angular_limit(ia, a, ib, b, axis, min, max);
+    }
+    case ConstraintType::positional_limit: {
+      const Eigen::Vector3d anchor = e.vector("anchor");
+      const Eigen::Vector3d axis = e.axis("axis");
+      const double min = e.number("min"), max = e.number("max");
+      check_range(e, min, max);
+      return make_positional_limit(ia, a, ib, b, anchor, axis, min, max);
+    }
+  }
+  e.fail("unhandled constraint type");  // unreachable: the switch covers every type
+}
+
+const json& array_of(const Entry& e, const json& v, const char* key) {
+  if (!v.is_array()) e.fail(std::string(key) + " must be an array, got " + describe(v));
+  return v;
+}
+
+}  // namespace
+
+Mechanism parse_scene(const json& scene, const std::string& source) {
+  const Entry top(source, "", scene);
+  top.require_object("the scene");
+  top.allow_only({"name", "gravity", "timestep", "bodies", "constraints"}, "a scene");
+  Mechanism m;
+  m.name = top.has("name") ? top.string("name") : std::filesystem::path(source).stem().string();
+  if (top.has("gravity")) m.gravity = top.vector("gravity");
+  if (top.has("timestep")) m.timestep = top.positive("timestep");
+
+  const json& bodies = array_of(top, top.required("bodies"), "bodies");
+  std::unordered_map<std::string, int> index;  // body name -> index
+  for (size_t i = 0; i < bodies.size(); ++i) {
+    Entry e(source, cat("bodies[", std::to_string(i), "]"), bodies[i]);
+    e.require_object("a body");
+    RigidBody b;
+    b.name = e.string("name");
+    if (b.name.empty()) e.fail("name must not be empty");
+    e.append_to_label(cat(" (", in_quotes(b.name), ")"));
+    const auto [it, inserted] = index.emplace(b.name, static_cast<int>(i));
+    if (!inserted) e.fail(cat("duplicate body name (also bodies[", std::to_string(it->second), "])"));
+    parse_body_data(e, &b);
+    m.add_body(std::move(b));
+  }
+
+  if (top.has("constraints")) {
+    const json& constraints = array_of(top, top.required("constraints"), "constraints");
+    for (size_t i = 0; i < constraints.size(); ++i) {
+      const Entry e(source, cat("constraints[", std::to_string(i), "]"), constraints[i]);
+      e.require_object("a constraint");
+      m.add_constraint(parse_constraint(e, m, index));
+    }
+  }
+  return m;
+}
+
+namespace {
+
+// Refuses duplicate keys, which nlohmann-json would silently resolve to the last one. The
+// parser's callback sees the structure as it is read: a stack of the containers open, each with
+// the child being read (an array's index, an object's key), names where the duplicate is.
+class DuplicateKeyCheck {
+ public:
+  explicit DuplicateKeyCheck(const std::string& source) : source_(source) {}
+
+  bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
+    using E = json::parse_event_t;
+    switch (event) {
+      case E::object_start:
+      case E::array_start:
+      case E::value:
+        if (!stack_.empty() && stack_.back().is_array) ++stack_.back().index;
+        if (event != E::value) stack_.push_back({event == E::array_start, -1, {}, {}});
+        break;
+      case E::key: {
+        Open& top = stack_.back();
+        top.key = parsed.get<std::string>();
+        if (!top.keys.insert(top.key).second) {
+          const std::string where = path();
+          throw InputError(cat(source_, ": ", where, where.empty() ? "" : ": ", "duplicate key ", in_quotes(top.key)));
+        }
+        break;
+      }
+      case E::object_end:
+      case E::array_end: stack_.pop_back(); break;
+    }
+    return true;
+  }
+
+ private:
+  struct Open {
+    bool is_array;
+    int index;                   // arrays: the element being read
+    std::string key;             // objects: the member being read
+    std::set<std::string> keys;  // objects: the keys seen
+  };
+
+  // Where the innermost open object is, as messages name entries ("bodies[2]").
+  std::string path() const {
+    std::string p;
+    for (size_t i = 0; i + 1 < stack_.size(); ++i) {
+      if (stack_[i].is_array) {
+        p += cat("[", std::to_string(stack_[i].index), "]");
+      } else {
+        if (!p.empty()) p += ".";
+        p += stack_[i].key;
+      }
+    }
+    return p;
+  }
+
+  const std::string& source_;
+  std::vector<Open> stack_;
+};
+
+}  // namespace
+
+Mechanism load_scene(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(cat(path, ": cannot read: it is a directory"));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw InputError(cat(path, ": cannot read: ", std::strerror(errno)));
+  }
+  std::ostringstream text_stream;
+  text_stream << in.rdbuf();
+  if (in.bad()) throw InputError(cat(path, ": cannot read: read error"));
+  const std::string text = text_stream.str();
+
+  // "path:line:column" of the character at 0-based offset `at`
+  auto where = [&](size_t at) {
+    at = std::min(at, text.size());
+    const size_t line = 1 + std::count(text.begin(), text.begin() + at, '\n');
+    const size_t line_start = at == 0 ? std::string::npos : text.rfind('\n', at - 1);
+    const size_t column = line_start == std::string::npos ? at + 1 : at - line_start;
+    return cat(path, ":", std::to_string(line), ":", std::to_string(column));
+  };
+  json scene;
+  try {
+    scene = json::parse(text, DuplicateKeyCheck(path));
+  } catch (const json::parse_error& e) {
+    // e.byte: 1-based offset of the character the parser stopped at.
+    // nlohmann's text is "[json.exception.parse_error.101] parse error at line L, column C: what"
+    std::string what = e.what();
+    const size_t colon = what.find(": ", what.find("parse error"));
+    if (colon != std::string::npos) what = what.substr(colon + 2);
+    throw InputError(cat(where(e.byte == 0 ? 0 : e.byte - 1), ": invalid JSON: ", what));
+  } catch (const json::out_of_range& e) {
+    // 406: a number beyond the range of a double ("number overflow parsing '1e400'"), which
+    // carries no position: the number's first occurrence in the text gives it
+    const std::string what = e.what();
+    const size_t open = what.find("parsing '"), close = what.rfind('\'');
+    if (e.id == 406 && open != std::string::npos && close > open + 9) {
+      const std::string number = what.substr(open + 9, close - open - 9);
+      throw InputError(cat(where(text.find(number)), ": number ", number, " is out of the range of a double"));
+    }
+    throw InputError(cat(path, ": invalid JSON: ", what));
+  } catch (const json::exception& e) {
+    throw InputError(cat(path, ": invalid JSON: ", e.what()));
+  }
+  return parse_scene(scene, path);
+}
+
+namespace {
+
+// x + 0.0 writes -0.0 as 0.0 (rounding to nearest): the same value, a tidier file
+json to_json(const Eigen::Vector3d& v) { return json::array({v.x() + 0.0, v.y() + 0.0, v.z() + 0.0}); }
+
+// Inline JSON with the keys in the order the format lists them (nlohmann sorts them).
+int key_rank(const std::string& key) {
+  static constexpr std::string_view order[] = {"name", "static", "type", "bodies", "mass", "inertia", "position",
+                                               "orientation", "linear_velocity", "angular_velocity", "anchor",
+                                               "anchors", "axis", "length", "min", "max"};
+  const auto it = std::find(std::begin(order), std::end(order), key);
+  return static_cast<int>(it - std::begin(order));
+}
+
+void write_inline(const json& v, std::string* out) {
+  if (v.is_object()) {
+    std::vector<std::string> keys;
+    for (auto it = v.begin(); it != v.end(); ++it) keys.push_back(it.key());
+    std::stable_sort(keys.begin(), keys.end(),
+                     [](const std::string& a, const std::string& b) { return key_rank(a) < key_rank(b); });
+    *out += "{";
+    for (size_t i = 0; i < keys.size(); ++i) {
+      if (i) *out += ", ";
+      *out += in_quotes(keys[i]);
+      *out += ": ";
+      write_inline(v[keys[i]], out);
+    }
+    *out += "}";
+  } else if (v.is_array()) {
+    *out += "[";
+    for (size_t i = 0; i < v.size(); ++i) {
+      if (i) *out += ", ";
+      write_inline(v[i], out);
+    }
+    *out += "]";
+  } else {
+    *out += v.dump(-1, ' ', false, json::error_handler_t::replace);
+  }
+}
+
+}  // namespace
+
+json scene_to_json(const Mechanism& m) {
+  json scene = json::object();
+  scene["name"] = m.name;
+  scene["gravity"] = to_json(m.gravity);
+  scene["timestep"] = m.timestep;
+  json bodies = json::array();
+  for (const RigidBody& b : m.bodies) {
+    json o = json::object();
+    o["name"] = b.name;
+    if (b.is_static) {
+      o["static"] = true;
+    } else {
+      o["mass"] = b.mass;
+      o["inertia"] = to_json(b.inertia);
+    }
+    o["position"] = to_json(b.position);
+    const Eigen::Quaterniond q = b.orientation.normalized();
+    o["orientation"] = json::array({q.w() + 0.0, q.x() + 0.0, q.y() + 0.0, q.z() + 0.0});
+    if (!b.is_static) {
+      // zero velocities are the default: left out to keep files short
+      if (!b.linear_velocity.isZero(0)) o["linear_velocity"] = to_json(b.linear_velocity);
+      if (!b.angular_velocity.isZero(0)) o["angular_velocity"] = to_json(b.angular_velocity);
+    }
+    bodies.push_back(std::move(o));
+  }
+  scene["bodies"] = std::move(bodies);
+
+  json constraints = json::array();
+  for (const Constraint& c : m.constraints) {
+    const RigidBody &a = m.bodies[c.body_a], &b = m.bodies[c.body_b];
+    json o = json::object();
+    o["type"] = to_string(c.type);
+    o["bodies"] = json::array({a.name, b.name});
+    const Eigen::Vector3d anchor = a.to_world(c.anchor_a);
+    const Eigen::Vector3d axis = a.orientation * c.frame_a.col(2);
+    switch (c.type) {
+      case ConstraintType::ball: o["anchor"] = to_json(anchor); break;
+      case ConstraintType::hinge:
+      case ConstraintType::prismatic:
+      case ConstraintType::cylindrical:
+      case ConstraintType::weld:
+        o["anchor"] = to_json(anchor);
+        o["axis"] = to_json(axis);
+        break;
+      case ConstraintType::rod:
+      case ConstraintType::rope:
+        o["anchors"] = json::array({to_json(anchor), to_json(b.to_world(c.anchor_b))});
+        o["length"] = c.length;
+        break;
+      case ConstraintType::positional_limit: o["anchor"] = to_json(anchor); [[fallthrough]];
+      case ConstraintType::angular_limit:
+        o["axis"] = to_json(axis);
+        o["min"] = c.min;
+        o["max"] = c.max;
+        break;
+    }
+    constraints.push_back(std::move(o));
+  }
+  scene["constraints"] = std::move(constraints);
+  return scene;
+}
+
+void save_scene(const Mechanism& m, const std::string& path) {
+  const json scene = scene_to_json(m);
+  // One line per body and per constraint: diffable, and readable for the scenes' sizes.
+  std::string text = "{\n";
+  for (const char* key : {"name", "gravity", "timestep"}) {
+    text += "  ";
+    text += in_quotes(key);
+    text += ": ";
+    write_inline(scene[key], &text);
+    text += ",\n";
+  }
+  for (const char* key : {"bodies", "constraints"}) {
+    const json& list = scene[key];
+    text += "  ";
+    text += in_quotes(key);
+    text += ": [";
+    for (size_t i = 0; i < list.size(); ++i) {
+      text += i ? ",\n    " : "\n    ";
+      write_inline(list[i], &text);
+    }
+    text += list.empty() ? "]" : "\n  ]";
+    text += std::string_view(key) == "bodies" ? ",\n" : "\n";
+  }
+  text += "}\n";
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  out.close();
+  if (!out) {
+    throw InputError(cat(path, ": cannot write: ", std::strerror(errno)));
+  }
+}
+
+}  // namespace ldlpgs

@@ -1,0 +1,412 @@
+// The built-in scenes. Units SI, y up, gravity (0, -9.81, 0). Masses and inertias are those of
+// uniform solids of the stated dimensions; every joint is built at a world point and axis of the
+// initial pose (constraint.h), so the equality constraints hold there exactly, and the bodies
+// are laid out so that the joints sit where the bodies meet.
+#include "physics/scenes.h"
+
+#include <charconv>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace ldlpgs {
+
+namespace {
+
+using Eigen::Vector3d;
+constexpr double kPi = std::numbers::pi;
+const Vector3d kX = Vector3d::UnitX(), kY = Vector3d::UnitY(), kZ = Vector3d::UnitZ();
+
+// Principal moments of uniform solids about their centre, body frame.
+Vector3d box_inertia(double mass, double x, double y, double z) {
+  return mass / 12 * Vector3d(y * y + z * z, x * x + z * z, x * x + y * y);
+}
+// A cylinder of radius r and length h along body axis `axis` (0 = x, 1 = y, 2 = z).
+Vector3d cylinder_inertia(double mass, double r, double h, int axis) {
+  Vector3d i = Vector3d::Constant(mass * (3 * r * r + h * h) / 12);
+  i[axis] = mass * r * r / 2;
+  return i;
+}
+Vector3d sphere_inertia(double mass, double r) { return Vector3d::Constant(2 * mass * r * r / 5); }
+
+RigidBody static_body(const std::string& name, const Vector3d& position) {
+  RigidBody b;
+  b.name = name;
+  b.is_static = true;
+  b.position = position;
+  return b;
+}
+
+RigidBody dynamic_body(const std::string& name, double mass, const Vector3d& inertia, const Vector3d& position,
+                       const Eigen::Quaterniond& orientation = Eigen::Quaterniond::Identity()) {
+  RigidBody b;
+  b.name = name;
+  b.mass = mass;
+  b.inertia = inertia;
+  b.position = position;
+  b.orientation = orientation;
+  return b;
+}
+
+// Body frame x along the segment p -> q in the plane z = const (links, planks).
+Eigen::Quaterniond along_xy(const Vector3d& p, const Vector3d& q) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(std::atan2(q.y() - p.y(), q.x() - p.x()), kZ));
+}
+
+void ball(Mechanism* m, int a, int b, const Vector3d& anchor) {
+  m->add_constraint(make_ball(a, m->bodies[a], b, m->bodies[b], anchor));
+}
+void axial(Mechanism* m, ConstraintType type, int a, int b, const Vector3d& anchor, const Vector3d& axis) {
+  m->add_constraint(make_axial(type, a, m->bodies[a], b, m->bodies[b], anchor, axis));
+}
+
+std::string numbered(const char* prefix, int i) {
+  std::string s = prefix;
+  s += std::to_string(i);
+  return s;
+}
+
+// A 1 kg bob (a sphere of radius 5 cm) on a 1 m ball joint, released 0.1 rad from the vertical:
+// a compound pendulum of small-angle period 2 pi sqrt((I + m l^2) / (m g l)).
+Mechanism pendulum() {
+  Mechanism m;
+  m.name = "pendulum";
+  const double l = 1, angle = 0.1;
+  m.add_body(static_body("ground", Vector3d::Zero()));
+  m.add_body(dynamic_body("bob", 1, sphere_inertia(1, 0.05), Vector3d(l * std::sin(angle), -l * std::cos(angle), 0)));
+  ball(&m, 0, 1, Vector3d::Zero());
+  return m;
+}
+
+// n links (bars 0.5 x 0.05 x 0.05 m, 1 kg) hanging straight down at rest from a ball joint at
+// the origin, each joined to the next by a ball joint. A heavy chain's last link, "load", weighs
+// `load` times a link (mass and inertia).
+Mechanism chain(const std::string& name, int n, bool heavy, double load) {
+  const double l = 0.5, t = 0.05;
+  Mechanism m;
+  m.name = name;
+  m.bodies.reserve(n + 1);
+  m.constraints.reserve(n);
+  m.add_body(static_body("ground", Vector3d::Zero()));
+  for (int i = 0; i < n; ++i) {
+    const bool last = heavy && i == n - 1;
+    const double mass = last ? load : 1.0;
+    m.add_body(dynamic_body(last ? "load" : numbered("link", i), mass, box_inertia(mass, t, l, t),
+                            Vector3d(0, -l * (i + 0.5), 0)));
+    ball(&m, i, i + 1, Vector3d(0, -l * i, 0));
+  }
+  return m;
+}
+
+// A 72 kg humanoid in a T-pose, facing +z, pelvis 3 m up, thrown tumbling (a rigid motion, so
+// every joint's velocity constraint holds): ball joints at the lower back, neck, shoulders and
+// hips; hinges at the elbows (about the vertical) and knees (about x), each with an angular
+// limit letting it bend one way (forearms forward, shins backward), as a ragdoll of a game has.
+Mechanism ragdoll() {
+  Mechanism m;
+  m.name = "ragdoll";
+  const double y0 = 3.0;
+  const int pelvis = m.add_body(dynamic_body("pelvis", 10, box_inertia(10, 0.30, 0.20, 0.20), Vector3d(0, y0, 0)));
+  const int torso = m.add_body(dynamic_body("torso", 25, box_inertia(25, 0.36, 0.50, 0.22), Vector3d(0, y0 + 0.35, 0)));
+  const int head = m.add_body(dynamic_body("head", 5, sphere_inertia(5, 0.11), Vector3d(0, y0 + 0.73, 0)));
+  ball(&m, pelvis, torso, Vector3d(0, y0 + 0.10, 0));  // lower back
+  ball(&m, torso, head, Vector3d(0, y0 + 0.60, 0));    // neck
+  struct Side {
+    const char* name;
+    double s;  // +1 left (+x), -1 right
+  };
+  for (const Side side : {Side{"left", 1}, Side{"right", -1}}) {
+    const double s = side.s;
+    const std::string n = side.name;
+    // arm along +-x: shoulder at the torso's side, upper arm 0.30 m, forearm and hand 0.28 m
+    const double ya = y0 + 0.52;
+    const int upper_arm = m.add_body(dynamic_body(std::string("upper_arm_") + n, 2.5,
+                                                  cylinder_inertia(2.5, 0.045, 0.30, 0), Vector3d(s * 0.33, ya, 0)));
+    const int lower_arm = m.add_body(dynamic_body(std::string("lower_arm_") + n, 1.5,
+                                                  cylinder_inertia(1.5, 0.04, 0.28, 0), Vector3d(s * 0.62, ya, 0)));
+    ball(&m, torso, upper_arm, Vector3d(s * 0.18, ya, 0));
+    // a positive angle about (0, -s, 0) turns the forearm from +-x towards +z (forward)
+    const Vector3d elbow_axis(0, -s, 0), elbow(s * 0.48, ya, 0);
+    axial(&m, ConstraintType::hinge, upper_arm, lower_arm, elbow, elbow_axis);
+    m.add_constraint(make_angular_limit(upper_arm, m.bodies[upper_arm], lower_arm, m.bodies[lower_arm], elbow_axis,
+                                        -0.05, 2.6));
+    // leg along -y: hip under the pelvis, thigh 0.44 m, shin and foot 0.46 m
+    const int upper_leg = m.add_body(dynamic_body(std::string("upper_leg_") + n, 8, cylinder_inertia(8, 0.07, 0.44, 1),
+                                                  Vector3d(s * 0.10, y0 - 0.32, 0)));
+    const int lower_leg = m.add_body(dynamic_body(std::string("lower_leg_") + n, 4, cylinder_inertia(4, 0.05, 0.46, 1),
+                                                  Vector3d(s * 0.10, y0 - 0.77, 0)));
+    ball(&m, pelvis, upper_leg, Vector3d(s * 0.10, y0 - 0.10, 0));
+    // a positive angle about +x turns the shin from -y towards -z (backward)
+    const Vector3d knee(s * 0.10, y0 - 0.54, 0);
+    axial(&m, ConstraintType::hinge, upper_leg, lower_leg, knee, kX);
+    m.add_constraint(
+        make_angular_limit(upper_leg, m.bodies[upper_leg], lower_leg, m.bodies[lower_leg], kX, -0.05, 2.4));
+  }
+  // thrown: v = v0 + w x (p - centre of mass), the same w for every body
+  Vector3d centre = Vector3d::Zero();
+  double total = 0;
+  for (const RigidBody& b : m.bodies) {
+    centre += b.mass * b.position;
+    total += b.mass;
+  }
+  centre /= total;
+  const Vector3d v0(0.5, 2.0, 0), w(0.5, 1.0, 2.0);
+  for (RigidBody& b : m.bodies) {
+    b.linear_velocity = v0 + w.cross(b.position - centre);
+    b.angular_velocity = w;
+  }
+  return m;
+}
+
+// A Grashof crank-rocker in the plane z = 0: ground A-D 2 m, crank A-B 0.6 m (vertical at the
+// start), coupler B-C 2 m, rocker C-D 1.2 m, hinges about z at A, B, C, D: 20 rows on 18
+// freedoms, 3 redundant (a planar loop) and H singular without compliance. Links are bars of
+// 2 kg/m, 5 x 5 cm; the crank turns at 2 rad/s and the coupler and rocker move with it.
+Mechanism four_bar() {
+  Mechanism m;
+  m.name = "four-bar";
+  const double crank_length = 0.6, coupler = 2.0, rocker = 1.2;
+  const Vector3d a(0, 0, 0), d(2, 0, 0), b(0, crank_length, 0);
+  // C: the upper intersection of the circles |C - B| = coupler, |C - D| = rocker
+  const Vector3d bd = d - b;
+  const double dist = bd.norm();
+  const double along = (coupler * coupler - rocker * rocker + dist * dist) / (2 * dist);
+  const double across = std::sqrt(coupler * coupler - along * along);
+  const Vector3d c = b + along * bd / dist + across * Vector3d(-bd.y(), bd.x(), 0) / dist;
+  auto bar = [&](const char* name, const Vector3d& p, const Vector3d& q, double l) {
+    const double mass = 2 * l;
+    return m.add_body(dynamic_body(name, mass, box_inertia(mass, l, 0.05, 0.05), 0.5 * (p + q), along_xy(p, q)));
+  };
+  const int ground = m.add_body(static_body("ground", Vector3d::Zero()));
+  const int crank = bar("crank", a, b, crank_length), link = bar("coupler", b, c, coupler),
+            rock = bar("rocker", c, d, rocker);
+  // velocities of the loop: w1 z x (B - A) + w2 z x (C - B) = w3 z x (C - D), for w1 = 2 rad/s
+  auto perp = [](const Vector3d& r) { return Eigen::Vector2d(-r.y(), r.x()); };  // z x r
+  const double w1 = 2;
+  const Eigen::Vector2d vb = w1 * perp(b - a);
+  Eigen::Matrix2d k;
+  k.col(0) = perp(c - b);
+  k.col(1) = -perp(c - d);
+  const Eigen::Vector2d w23 = k.lu().solve(-vb);
+  auto spin = [&](int body, double w, const Vector3d& pivot, const Eigen::Vector2d& v_pivot) {
+    const Eigen::Vector2d v = v_pivot + w * perp(m.bodies[body].position - pivot);
+    m.bodies[body].linear_velocity = Vector3d(v.x(), v.y(), 0);
+    m.bodies[body].angular_velocity = Vector3d(0, 0, w);
+  };
+  spin(crank, w1, a, Eigen::Vector2d::Zero());
+  spin(link, w23[0], b, vb);
+  spin(rock, w23[1], d, Eigen::Vector2d::Zero());
+  axial(&m, ConstraintType::hinge, ground, crank, a, kZ);
+  axial(&m, ConstraintType::hinge, crank, link, b, kZ);
+  axial(&m, ConstraintType::hinge, link, rock, c, kZ);
+  axial(&m, ConstraintType::hinge, rock, ground, d, kZ);
+  return m;
+}
+
+// Ten planks (0.4 x 0.04 x 1 m of 600 kg/m^3 wood) between two static posts, each junction a
+// 0.1 m rod on the centre line and two 0.1 m ropes at the sides (z = +-0.45). The deck starts
+// on a circular arc of radius 8 m (a 5 m span sagging 0.4 m), the rods straight along it, so it
+// hangs from the start and never sits on a straight, singular line; ropes are inequalities.
+Mechanism rope_bridge() {
+  Mechanism m;
+  m.name = "rope-bridge";
+  const int planks = 10;
+  const double plank = 0.4, gap = 0.1, thickness = 0.04, width = 1.0, side = 0.45, radius = 8;
+  const double mass = 600 * plank * thickness * width;
+  // the junction points along the arc: gap, plank, gap, ..., plank, gap
+  const double a_gap = 2 * std::asin(gap / (2 * radius)), a_plank = 2 * std::asin(plank / (2 * radius));
+  const double total = (planks + 1) * a_gap + planks * a_plank;
+  std::vector<Vector3d> p;  // (size 2 planks + 2)
+  double phi = -total / 2;
+  const double yc = radius * std::cos(total / 2);
+  for (int k = 0; k < 2 * planks + 2; ++k) {
+    p.emplace_back(radius * std::sin(phi), yc - radius * std::cos(phi), 0);
+    phi += k % 2 == 0 ? a_gap : a_plank;
+  }
+  const int left = m.add_body(static_body("post_left", p.front()));
+  const int right = m.add_body(static_body("post_right", p.back()));
+  std::vector<int> body = {left};  // along the bridge: post, planks, post
+  for (int k = 0; k < planks; ++k) {
+    const Vector3d &s = p[2 * k + 1], &e = p[2 * k + 2];
+    body.push_back(m.add_body(dynamic_body(numbered("plank", k), mass, box_inertia(mass, plank, thickness, width),
+                                           0.5 * (s + e), along_xy(s, e))));
+  }
+  body.push_back(right);
+  for (int j = 0; j <= planks; ++j) {
+    const int a = body[j], b = body[j + 1];
+    const Vector3d &pa = p[2 * j], &pb = p[2 * j + 1];
+    m.add_constraint(make_distance(ConstraintType::rod, a, m.bodies[a], b, m.bodies[b], pa, pb));
+    for (double z : {side, -side})
+      m.add_constraint(make_distance(ConstraintType::rope, a, m.bodies[a], b, m.bodies[b], pa + z * kZ, pb + z * kZ));
+  }
+  return m;
+}
+
+// The talk's tracked vehicle: 40 hinges, dim(H) = 200. A chassis (2.2 x 0.5 x 1 m, 800 kg) on
+// four sprocket wheels (radius 0.3 m, 0.12 m wide, 40 kg) hinged at (+-0.75, 1, +-0.6), and on
+// each side a closed track of 16 links (0.3 x 0.03 x 0.2 m, 8 kg) hinged end to end around both
+// wheels: 5 links along the top, 3 chords of 60 degrees around the front wheel, 5 along the
+// bottom, 3 around the rear (every link 0.3 m = r: the chords of 60 degrees). The middle link
+// of each arc is hinged at its centre to its wheel. Hinge axes are all z: each track is a planar
+// loop with redundant rows. It drives forward at 2 m/s through the air: the tracks run around
+// the wheels at 2 m/s relative to the chassis (top run 4 m/s, bottom run still, links on the
+// arcs and the wheels turning at -2 / r rad/s about z), so the tracks' tension holds the links
+// on their arcs. Every joint's velocity rows hold: a link crossing a tangent point has both
+// ends moving along the stadium, which is a rigid motion of a 60-degree chord.
+Mechanism tracked_vehicle() {
+  Mechanism m;
+  m.name = "tracked-vehicle";
+  const double r = 0.3, half = 0.75, y = 1.0, track_z = 0.6, pitch = r;  // pitch: link length
+  const double speed = 2;  // forward, and of the tracks relative to the chassis
+  const Vector3d forward = speed * kX, spin = -speed / r * kZ;
+  m.add_body(dynamic_body("chassis", 800, box_inertia(800, 2.2, 0.5, 1.0), Vector3d(0, y + 0.1, 0)));
+  m.bodies[0].linear_velocity = forward;
+  // the track's joints around a stadium, in (x, y) about the wheels' level: top run from the rear
+  std::vector<Eigen::Vector2d> q;  // (size 16)
+  for (int j = 0; j <= 5; ++j) q.emplace_back(-half + pitch * j, r);
+  for (double deg : {30.0, -30.0}) q.emplace_back(half + r * std::cos(deg * kPi / 180), r * std::sin(deg * kPi / 180));
+  for (int j = 0; j <= 5; ++j) q.emplace_back(half - pitch * j, -r);
+  for (double deg : {-150.0, 150.0})
+    q.emplace_back(-half + r * std::cos(deg * kPi / 180), r * std::sin(deg * kPi / 180));
+  const int n = static_cast<int>(q.size());
+  const int front_arc_link = 6, rear_arc_link = 14;  // q[6] -> q[7] and q[14] -> q[15]
+
+  struct Side {
+    const char* name;
+    double z;
+  };
+  const Side sides[] = {{"left", -track_z}, {"right", track_z}};  // facing +x, y up: left is -z
+  int wheel[2][2];                                                 // [side][rear, front]
+  for (int s = 0; s < 2; ++s) {
+    for (int f = 0; f < 2; ++f) {
+      std::string name = "wheel_";
+      name += sides[s].name;
+      name += f ? "_front" : "_rear";
+      wheel[s][f] = m.add_body(dynamic_body(name, 40, cylinder_inertia(40, r, 0.12, 2),
+                                            Vector3d(f ? half : -half, y, sides[s].z)));
+      axial(&m, ConstraintType::hinge, 0, wheel[s][f], m.bodies[wheel[s][f]].position, kZ);
+      m.bodies[wheel[s][f]].linear_velocity = forward;
+      m.bodies[wheel[s][f]].angular_velocity = spin;
+    }
+  }
+  int first_link[2];
+  for (int s = 0; s < 2; ++s) {
+    auto world = [&](const Eigen::Vector2d& p) { return Vector3d(p.x(), y + p.y(), sides[s].z); };
+    std::string prefix = "track_";
+    prefix += sides[s].name;
+    first_link[s] = static_cast<int>(m.bodies.size());
+    for (int k = 0; k < n; ++k) {
+      const Vector3d a = world(q[k]), b = world(q[(k + 1) % n]);
+      RigidBody& link = m.bodies[m.add_body(dynamic_body(
+          numbered(prefix.c_str(), k), 8, box_inertia(8, pitch, 0.03, 0.2), 0.5 * (a + b), along_xy(a, b)))];
+      // links 0-4 run along the top, 8-12 along the bottom, 5-7 and 13-15 turn with a wheel
+      if (k <= 4 || (k >= 8 && k <= 12)) {
+        link.linear_velocity = forward + (k <= 4 ? 1 : -1) * speed * kX;
+      } else {
+        const Vector3d centre(k < 8 ? half : -half, y, sides[s].z);
+        link.linear_velocity = forward + spin.cross(link.position - centre);
+        link.angular_velocity = spin;
+      }
+    }
+    for (int k = 0; k < n; ++k)  // link k-1 to link k at q[k]
+      axial(&m, ConstraintType::hinge, first_link[s] + (k + n - 1) % n, first_link[s] + k, world(q[k]), kZ);
+  }
+  for (int s = 0; s < 2; ++s) {
+    for (int f = 0; f < 2; ++f) {
+      const int link = first_link[s] + (f ? front_arc_link : rear_arc_link);
+      axial(&m, ConstraintType::hinge, wheel[s][f], link, m.bodies[link].position, kZ);
+    }
+  }
+  return m;
+}
+
+// The talk's multi-wheeled vehicle: 20 wheel joints on one chassis, dim(H) = 88, H 100% dense.
+// A chassis 6.4 x 0.8 x 2 m of 800 kg (20 wheels' mass) on ten axles 0.6 m apart, two wheels
+// each (radius 0.28 m, 0.2 m wide, 40 kg) outside its sides: the two front and two rear axles'
+// wheels on hinges (5 rows), the six middle axles' on cylindrical joints (4 rows, free to slide
+// along the axle): 8 x 5 + 12 x 4 = 88. It is thrown through the air at 5 m/s, turning left at
+// 0.3 rad/s about y, every wheel spinning as if rolling (-5 / r rad/s about its axle): the turn
+// tilts the spinning wheels, whose gyroscopic torques the joints carry.
+Mechanism multi_wheeled_vehicle() {
+  Mechanism m;
+  m.name = "multi-wheeled-vehicle";
+  const double y = 1.0, r = 0.28, width = 0.2, wheel_mass = 40;
+  const int axles = 10;
+  const Vector3d velocity(5, 0, 0), turn(0, 0.3, 0), spin = -5 / r * kZ;
+  m.add_body(dynamic_body("chassis", 20 * wheel_mass, box_inertia(20 * wheel_mass, 6.4, 0.8, 2.0), Vector3d(0, y, 0)));
+  m.bodies[0].linear_velocity = velocity;
+  m.bodies[0].angular_velocity = turn;
+  for (int i = 0; i < axles; ++i) {
+    const bool hinged = i < 2 || i >= axles - 2;
+    for (const char* side : {"left", "right"}) {
+      const double z = std::string_view(side) == "left" ? -1.15 : 1.15;
+      std::string name = "wheel_";
+      name += side;
+      const Vector3d centre(-2.7 + 0.6 * i, y - 0.4, z);
+      const int w = m.add_body(
+          dynamic_body(numbered(name.c_str(), i), wheel_mass, cylinder_inertia(wheel_mass, r, width, 2), centre));
+      axial(&m, hinged ? ConstraintType::hinge : ConstraintType::cylindrical, 0, w, centre, kZ);
+      m.bodies[w].linear_velocity = velocity + turn.cross(centre - m.bodies[0].position);
+      m.bodies[w].angular_velocity = turn + spin;
+    }
+  }
+  return m;
+}
+
+// "<digits>" in 1..100000, no sign, no leading zero.
+bool parse_count(std::string_view s, int* n) {
+  if (s.empty() || s.size() > 6 || s[0] == '0') return false;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), *n);
+  return ec == std::errc() && end == s.data() + s.size() && *n >= 1 && *n <= 100000;
+}
+
+// A positive finite number, the whole of s.
+bool parse_ratio(std::string_view s, double* r) {
+  if (s.empty()) return false;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), *r);
+  return ec == std::errc() && end == s.data() + s.size() && std::isfinite(*r) && *r > 0;
+}
+
+}  // namespace
+
+std::vector<std::string> builtin_scene_names() {
+  return {"pendulum", "chain-10", "heavy-chain-10-1000", "ragdoll", "four-bar",
+          "rope-bridge", "tracked-vehicle", "multi-wheeled-vehicle"};
+}
+
+bool builtin_scene(std::string_view name, Mechanism* mechanism) {
+  constexpr std::string_view kChain = "chain-", kHeavy = "heavy-chain-";
+  if (name == "pendulum") {
+    *mechanism = pendulum();
+  } else if (name == "ragdoll") {
+    *mechanism = ragdoll();
+  } else if (name == "four-bar") {
+    *mechanism = four_bar();
+  } else if (name == "rope-bridge") {
+    *mechanism = rope_bridge();
+  } else if (name == "tracked-vehicle") {
+    *mechanism = tracked_vehicle();
+  } else if (name == "multi-wheeled-vehicle") {
+    *mechanism = multi_wheeled_vehicle();
+  } else if (name.starts_with(kChain)) {
+    int n = 0;
+    if (!parse_count(name.substr(kChain.size()), &n)) return false;
+    *mechanism = chain(std::string(name), n, false, 1);
+  } else if (name.starts_with(kHeavy)) {
+    const std::string_view rest = name.substr(kHeavy.size());
+    const size_t dash = rest.find('-');
+    int n = 0;
+    double ratio = 0;
+    if (dash == std::string_view::npos || !parse_count(rest.substr(0, dash), &n) ||
+        !parse_ratio(rest.substr(dash + 1), &ratio))
+      return false;
+    *mechanism = chain(std::string(name), n, true, ratio);
+  } else {
+    return false;
+  }
+  return true;
+}
+
+}  // namespace ldlpgs

@@ -1,0 +1,26 @@
+#pragma once
+// Built-in scenes: the mechanisms the talk shows and the hard cases of an iterative solver (long
+// chains, heavy loads, closed loops). Each is also written out under physics/scenes/ as a file.
+//
+//   pendulum                 one body on a ball joint to the ground
+//   chain-N                  N links hanging from the ground by ball joints (default 10)
+//   heavy-chain-N-R          chain-N whose last link carries a load R times a link's mass
+//   ragdoll                  torso, head, arms, legs: ball, hinge joints with angular limits
+//   four-bar                 a closed four-bar linkage of hinges (redundant constraints)
+//   rope-bridge              planks joined by ropes and rods between two static posts
+//   tracked-vehicle          the talk's: a main body and two closed tracks of hinged links
+//   multi-wheeled-vehicle    the talk's: every wheel constraint on one heavy chassis (H dense)
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "physics/mechanism.h"
+
+namespace ldlpgs {
+
+// The names above with their default parameters (chain-10, heavy-chain-10-1000, ...).
+std::vector<std::string> builtin_scene_names();
+// false if `name` is not a built-in scene (parameterised names: chain-N, heavy-chain-N-R).
+bool builtin_scene(std::string_view name, Mechanism* mechanism);
+
+}  // namespace ldlpgs

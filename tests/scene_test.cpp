@@ -1,0 +1,574 @@
+// Scene files: parse_scene against the values written in the file (defaults, normalisation, the
+// builders' arguments), round trips through scene_to_json and through a file reproducing every
+// body and every constraint's local data, and one named test per kind of bad input, each
+// checking that the one-line message names the file and the entry.
+#include "physics/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "sparse/error.h"
+#include "tests/mechanism_compare.h"
+#include "tests/temp_files.h"
+
+namespace ldlpgs {
+namespace {
+
+using nlohmann::json;
+using testing::temp_file;
+using testing::temp_path;
+using testing::expect_same;
+
+const std::string kTestData = LDLPGS_TESTDATA;
+
+RigidBody dynamic(const std::string& name, double mass, const Eigen::Vector3d& position,
+                  const Eigen::Quaterniond& orientation) {
+  RigidBody b;
+  b.name = name;
+  b.mass = mass;
+  b.inertia = mass * Eigen::Vector3d(0.02, 0.03, 0.04);
+  b.position = position;
+  b.orientation = orientation.normalized();
+  return b;
+}
+
+// Every constraint type, between bodies turned every which way, some moving, two static.
+Mechanism every_type() {
+  Mechanism m;
+  m.name = "every type";
+  m.gravity = Eigen::Vector3d(0.5, -9.81, 0.25);
+  m.timestep = 1.0 / 240;
+  RigidBody ground;
+  ground.name = "ground";
+  ground.is_static = true;
+  ground.position = Eigen::Vector3d(0.1, 0.2, -0.3);
+  ground.orientation = Eigen::Quaterniond(0.9, 0.1, -0.3, 0.2).normalized();
+  m.add_body(ground);
+  for (int i = 0; i < 8; ++i) {
+    RigidBody b = dynamic(std::string("b") + std::to_string(i), 1 + 0.5 * i,
+                          Eigen::Vector3d(0.7 * i, 0.1 * i * i - 1, 0.3 * std::sin(i)),
+                          Eigen::Quaterniond(1 + 0.1 * i, 0.3 * std::cos(i), -0.2 * i, 0.4));
+    b.linear_velocity = Eigen::Vector3d(0.1 * i, -0.2, 0.3);
+    b.angular_velocity = Eigen::Vector3d(-0.5, 0.25 * i, 1.5);
+    m.add_body(b);
+  }
+  RigidBody wall;
+  wall.name = "wall";
+  wall.is_static = true;
+  wall.position = Eigen::Vector3d(10, 0, 0);
+  m.add_body(wall);
+  auto mid = [&](int a, int b) { return (0.5 * (m.bodies[a].position + m.bodies[b].position)).eval(); };
+  const Eigen::Vector3d axis(0.3, -1, 0.7);
+  const auto& B = m.bodies;
+  m.add_constraint(make_ball(0, B[0], 1, B[1], Eigen::Vector3d(0.1, 0, 0)));
+  m.add_constraint(make_axial(ConstraintType::hinge, 1, B[1], 2, B[2], mid(1, 2), axis));
+  m.add_constraint(make_axial(ConstraintType::prismatic, 2, B[2], 3, B[3], mid(2, 3), Eigen::Vector3d(0, 0, 2)));
+  m.add_constraint(make_axial(ConstraintType::cylindrical, 3, B[3], 4, B[4], mid(3, 4), Eigen::Vector3d(1, 0, 0)));
+  m.add_constraint(make_axial(ConstraintType::weld, 4, B[4], 5, B[5], mid(4, 5), Eigen::Vector3d(0, 1, 0)));
+  m.add_constraint(make_distance(ConstraintType::rod, 5, B[5], 6, B[6], B[5].position, B[6].position + axis));
+  m.add_constraint(make_distance(ConstraintType::rope, 6, B[6], 7, B[7], B[6].position, B[7].position, 3.5));
+  m.add_constraint(make_angular_limit(1, B[1], 2, B[2], axis, -0.75, 1.25));
+  m.add_constraint(make_positional_limit(2, B[2], 3, B[3], mid(2, 3), Eigen::Vector3d(0, 0, 2), -0.1, 0.3));
+  m.add_constraint(make_distance(ConstraintType::rope, 8, B[8], 9, B[9], B[8].position, B[9].position));
+  m.add_constraint(make_axial(ConstraintType::hinge, 9, B[9], 7, B[7], mid(7, 9), axis));
+  return m;
+}
+
+// The message parse_scene throws for scene (a test failure if it does not throw).
+std::string error_of(const json& scene) {
+  try {
+    parse_scene(scene, "scene.json");
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "message is not one line: " << message;
+    return message;
+  }
+  ADD_FAILURE() << scene.dump() << " was accepted";
+  return {};
+}
+
+// Checks that parsing scene fails with "scene.json: ENTRY: ..." containing every one of words
+// (entry empty: "scene.json: ...", a problem of the scene itself).
+void expect_error(const json& scene, const std::string& entry, const std::vector<std::string>& words) {
+  const std::string message = error_of(scene);
+  std::string prefix = "scene.json: ";
+  if (!entry.empty()) prefix += entry + ": ";
+  EXPECT_EQ(message.substr(0, prefix.size()), prefix) << message;
+  for (const std::string& w : words)
+    EXPECT_NE(message.find(w), std::string::npos) << "'" << w << "' not in: " << message;
+}
+
+// The same for a file, whose message starts with its path.
+std::string file_error_of(const std::string& path) {
+  try {
+    load_scene(path);
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "message is not one line: " << message;
+    EXPECT_EQ(message.substr(0, path.size() + 1), path + ":") << message;
+    return message;
+  }
+  ADD_FAILURE() << path << " was accepted";
+  return {};
+}
+
+// A small valid scene the bad-input tests break one thing of: ground, b1, b2, wall.
+json valid() {
+  return json::parse(R"({
+    "name": "valid", "gravity": [0, -9.81, 0], "timestep": 0.01,
+    "bodies": [
+      {"name": "ground", "static": true, "position": [0, 0, 0]},
+      {"name": "b1", "mass": 1, "inertia": [0.1, 0.1, 0.1], "position": [0, -1, 0]},
+      {"name": "b2", "mass": 2, "inertia": [0.2, 0.3, 0.4], "position": [1, -1, 0], "orientation": [1, 0, 0, 0],
+       "linear_velocity": [0, 0, 1], "angular_velocity": [1, 0, 0]},
+      {"name": "wall", "static": true, "position": [5, 0, 0], "orientation": [0, 0, 1, 0]}],
+    "constraints": [
+      {"type": "ball", "bodies": ["ground", "b1"], "anchor": [0, 0, 0]},
+      {"type": "hinge", "bodies": ["b1", "b2"], "anchor": [0.5, -1, 0], "axis": [0, 0, 1]},
+      {"type": "rope", "bodies": ["b2", "wall"], "anchors": [[1, -1, 0], [5, 0, 0]], "length": 5},
+      {"type": "angular_limit", "bodies": ["b1", "b2"], "axis": [0, 0, 1], "min": -0.5, "max": 0.5},
+      {"type": "positional_limit", "bodies": ["b1", "b2"], "anchor": [0.5, -1, 0], "axis": [1, 0, 0],
+       "min": -0.1, "max": 0.1},
+      {"type": "rod", "bodies": ["b1", "b2"], "anchors": [[0, -1, 0], [1, -1, 0]]},
+      {"type": "weld", "bodies": ["b2", "wall"], "anchor": [3, 0, 0]}]})");
+}
+
+// ---- reading ----
+
+TEST(Scene, ValidSceneReadsAsWritten) {
+  const Mechanism m = parse_scene(valid(), "scene.json");
+  EXPECT_EQ(m.name, "valid");
+  EXPECT_EQ(m.timestep, 0.01);
+  EXPECT_EQ(m.gravity, Eigen::Vector3d(0, -9.81, 0));
+  ASSERT_EQ(m.bodies.size(), 4u);
+  ASSERT_EQ(m.constraints.size(), 7u);
+  EXPECT_TRUE(m.bodies[0].is_static);
+  EXPECT_FALSE(m.bodies[1].is_static);
+  EXPECT_EQ(m.bodies[2].inertia, Eigen::Vector3d(0.2, 0.3, 0.4));
+  EXPECT_EQ(m.bodies[2].linear_velocity, Eigen::Vector3d(0, 0, 1));
+  EXPECT_EQ(m.bodies[2].angular_velocity, Eigen::Vector3d(1, 0, 0));
+  EXPECT_EQ(m.bodies[1].linear_velocity, Eigen::Vector3d::Zero());  // optional: zero
+  EXPECT_EQ(m.bodies[3].orientation.coeffs(), Eigen::Quaterniond(0, 0, 1, 0).coeffs());  // [w, x, y, z]
+  // each constraint as the builder makes it from the file's world data
+  const auto& B = m.bodies;
+  Mechanism expected = m;
+  expected.constraints = {
+      make_ball(0, B[0], 1, B[1], Eigen::Vector3d(0, 0, 0)),
+      make_axial(ConstraintType::hinge, 1, B[1], 2, B[2], Eigen::Vector3d(0.5, -1, 0), Eigen::Vector3d(0, 0, 1)),
+      make_distance(ConstraintType::rope, 2, B[2], 3, B[3], Eigen::Vector3d(1, -1, 0), Eigen::Vector3d(5, 0, 0), 5),
+      make_angular_limit(1, B[1], 2, B[2], Eigen::Vector3d(0, 0, 1), -0.5, 0.5),
+      make_positional_limit(1, B[1], 2, B[2], Eigen::Vector3d(0.5, -1, 0), Eigen::Vector3d(1, 0, 0), -0.1, 0.1),
+      make_distance(ConstraintType::rod, 1, B[1], 2, B[2], Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(1, -1, 0)),
+      make_axial(ConstraintType::weld, 2, B[2], 3, B[3], Eigen::Vector3d(3, 0, 0), Eigen::Vector3d(1, 0, 0))};
+  expect_same(m, expected, 0);
+  EXPECT_EQ(m.constraints[5].length, 1);  // a rod's length defaults to the anchors' distance
+  // the weld without an axis takes x
+  EXPECT_LE((B[2].orientation * m.constraints[6].frame_a.col(2) - Eigen::Vector3d::UnitX()).norm(), 1e-15);
+}
+
+TEST(Scene, OptionalTopLevelKeysTakeTheMechanismDefaults) {
+  json s = valid();
+  s.erase("name");
+  s.erase("gravity");
+  s.erase("timestep");
+  s.erase("constraints");
+  const Mechanism m = parse_scene(s, "dir/bridge.json");
+  EXPECT_EQ(m.name, "bridge");  // the file's stem
+  EXPECT_EQ(m.gravity, Mechanism().gravity);
+  EXPECT_EQ(m.timestep, Mechanism().timestep);
+  EXPECT_TRUE(m.constraints.empty());
+  EXPECT_EQ(m.bodies.size(), 4u);
+}
+
+TEST(Scene, QuaternionsAreNormalised) {
+  json s = valid();
+  s["bodies"][1]["orientation"] = {2, 0, 0, 0};
+  s["bodies"][2]["orientation"] = {1, 2, -2, 4};  // |q| = 5
+  const Mechanism m = parse_scene(s, "scene.json");
+  EXPECT_EQ(m.bodies[1].orientation.coeffs(), Eigen::Quaterniond::Identity().coeffs());
+  const Eigen::Quaterniond q = m.bodies[2].orientation;
+  EXPECT_NEAR(q.w(), 0.2, 1e-15);
+  EXPECT_NEAR(q.x(), 0.4, 1e-15);
+  EXPECT_NEAR(q.y(), -0.4, 1e-15);
+  EXPECT_NEAR(q.z(), 0.8, 1e-15);
+}
+
+TEST(Scene, BallAcceptsAnAxisAndIgnoresIt) {
+  json s = valid();
+  s["constraints"][0]["axis"] = {0, 1, 0};
+  const Mechanism with_axis = parse_scene(s, "scene.json");
+  expect_same(with_axis, parse_scene(valid(), "scene.json"), 0);
+}
+
+// ---- round trips ----
+
+TEST(Scene, RoundTripThroughJsonReproducesEveryBodyAndConstraint) {
+  const Mechanism m = every_type();
+  const json j = scene_to_json(m);
+  expect_same(parse_scene(j, "round trip"), m, 1e-12);
+  // and the format is the documented one: world anchors and axes at the pose
+  const json& hinge = j["constraints"][1];
+  EXPECT_EQ(hinge["type"], "hinge");
+  EXPECT_EQ(hinge["bodies"], json({"b0", "b1"}));
+  const Eigen::Vector3d mid = 0.5 * (m.bodies[1].position + m.bodies[2].position);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(hinge["anchor"][k].get<double>(), mid[k], 1e-12);
+    EXPECT_NEAR(hinge["axis"][k].get<double>(), Eigen::Vector3d(0.3, -1, 0.7).normalized()[k], 1e-12);
+  }
+}
+
+TEST(Scene, RoundTripThroughAFile) {
+  const Mechanism m = every_type();
+  const std::string path = temp_path("every_type.json");
+  save_scene(m, path);
+  const Mechanism back = load_scene(path);
+  expect_same(back, m, 1e-12);
+  // and again: the local data do not drift (world -> body -> world rounds, the text need not
+  // be a fixed point)
+  const std::string again = temp_path("again.json");
+  save_scene(back, again);
+  expect_same(load_scene(again), m, 1e-12);
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_TRUE(json::accept(text.str()));
+}
+
+TEST(Scene, RoundTripOfAMovedMechanismKeepsItsPose) {
+  // a mechanism moved rigidly as a whole (every constraint still holds): the file holds the new pose
+  Mechanism m = every_type();
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
+  const Eigen::Vector3d shift(1, -2, 0.5);
+  for (RigidBody& b : m.bodies) {
+    b.position = turn * b.position + shift;
+    b.orientation = turn * b.orientation;
+  }
+  const Mechanism back = parse_scene(scene_to_json(m), "moved");
+  for (size_t i = 0; i < m.bodies.size(); ++i)
+    EXPECT_LE((back.bodies[i].position - m.bodies[i].position).norm(), 1e-12);
+  // anchors and axes are the same points and directions of the bodies (frames about the axis may
+  // be chosen afresh, the axis itself may not)
+  for (size_t i = 0; i < m.constraints.size(); ++i) {
+    const Constraint &x = m.constraints[i], &y = back.constraints[i];
+    EXPECT_LE((x.anchor_a - y.anchor_a).norm(), 1e-12) << i;
+    EXPECT_LE((x.anchor_b - y.anchor_b).norm(), 1e-12) << i;
+    EXPECT_LE((x.frame_a.col(2) - y.frame_a.col(2)).norm(), 1e-12) << i;
+    EXPECT_LE((x.frame_b.col(2) - y.frame_b.col(2)).norm(), 1e-12) << i;
+    EXPECT_NEAR(x.length, y.length, 1e-12);
+  }
+}
+
+TEST(Scene, SavedFileHasOneLinePerBodyAndConstraint) {
+  const Mechanism m = every_type();
+  const std::string path = temp_path("lines.json");
+  save_scene(m, path);
+  std::ifstream in(path);
+  int lines = 0;
+  for (std::string line; std::getline(in, line);) ++lines;
+  // {, name, gravity, timestep, "bodies": [, bodies, ], "constraints": [, constraints, ], }
+  EXPECT_EQ(lines, 4 + 2 + static_cast<int>(m.bodies.size()) + 2 + static_cast<int>(m.constraints.size()) + 1);
+}
+
+TEST(Scene, UnwritableFileIsAnInputError) {
+  const std::string path = temp_path("no_such_dir") + "/scene.json";
+  try {
+    save_scene(every_type(), path);
+    ADD_FAILURE() << "wrote " << path;
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).substr(0, path.size() + 1), path + ":") << e.what();
+  }
+}
+
+// ---- bad input: one test per kind ----
+
+TEST(SceneBadInput, UnknownBodyName) {
+  json s = valid();
+  s["constraints"][3]["bodies"][1] = "link9";
+  expect_error(s, "constraints[3]", {"unknown body \"link9\""});
+}
+
+TEST(SceneBadInput, DuplicateBodyName) {
+  json s = valid();
+  s["bodies"][2]["name"] = "b1";
+  expect_error(s, "bodies[2] (\"b1\")", {"duplicate body name", "bodies[1]"});
+}
+
+TEST(SceneBadInput, UnknownConstraintType) {
+  json s = valid();
+  s["constraints"][1]["type"] = "hinje";
+  expect_error(s, "constraints[1]", {"unknown constraint type \"hinje\"", "hinge"});
+}
+
+TEST(SceneBadInput, ConstraintBetweenABodyAndItself) {
+  json s = valid();
+  s["constraints"][1]["bodies"] = {"b2", "b2"};
+  expect_error(s, "constraints[1]", {"two different bodies", "\"b2\""});
+}
+
+TEST(SceneBadInput, TwoStaticBodiesConstrainedTogether) {
+  json s = valid();
+  s["constraints"][6]["bodies"] = {"ground", "wall"};
+  expect_error(s, "constraints[6]", {"two static bodies", "\"ground\"", "\"wall\""});
+}
+
+TEST(SceneBadInput, NonPositiveMass) {
+  for (double mass : {0.0, -1.0}) {
+    json s = valid();
+    s["bodies"][2]["mass"] = mass;
+    expect_error(s, "bodies[2] (\"b2\")", {std::string("mass must be positive, got ") + (mass == 0 ? "0" : "-1")});
+  }
+}
+
+TEST(SceneBadInput, NonPositiveInertia) {
+  json s = valid();
+  s["bodies"][1]["inertia"] = {0.1, 0, 0.1};
+  expect_error(s, "bodies[1] (\"b1\")", {"inertia must be positive", "[0.1, 0, 0.1]"});
+  s["bodies"][1]["inertia"] = {0.1, 0.1, -2};
+  expect_error(s, "bodies[1] (\"b1\")", {"inertia must be positive"});
+}
+
+TEST(SceneBadInput, ZeroAxis) {
+  json s = valid();
+  s["constraints"][1]["axis"] = {0, 0, 0};
+  expect_error(s, "constraints[1]", {"axis", "non-zero"});
+  s = valid();
+  s["constraints"][3]["axis"] = {1e-13, 0, 0};  // near zero: no direction either
+  expect_error(s, "constraints[3]", {"axis", "non-zero"});
+  s = valid();
+  s["constraints"][6]["axis"] = {0, 0, 0};  // the weld's optional axis is checked when given
+  expect_error(s, "constraints[6]", {"axis", "non-zero"});
+}
+
+TEST(SceneBadInput, ZeroQuaternion) {
+  json s = valid();
+  s["bodies"][3]["orientation"] = {0, 0, 0, 0};
+  expect_error(s, "bodies[3] (\"wall\")", {"orientation", "non-zero quaternion"});
+}
+
+TEST(SceneBadInput, NonFiniteNumber) {
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  json s = valid();
+  s["bodies"][1]["mass"] = nan;
+  expect_error(s, "bodies[1] (\"b1\")", {"mass must be finite"});
+  s = valid();
+  s["bodies"][2]["position"][1] = inf;
+  expect_error(s, "bodies[2] (\"b2\")", {"position must be finite", "inf"});
+  s = valid();
+  s["constraints"][2]["anchors"][1][0] = -inf;
+  expect_error(s, "constraints[2]", {"anchors[1] must be finite"});
+  s = valid();
+  s["timestep"] = nan;
+  expect_error(s, "", {"timestep must be finite"});
+  s = valid();
+  s["constraints"][3]["max"] = inf;
+  expect_error(s, "constraints[3]", {"max must be finite"});
+  // in a file: a number too large for a double, refused where it stands
+  std::string text = valid().dump(1);
+  text.replace(text.find("\"mass\": 2"), 9, "\"mass\": 1e400");
+  const std::string path = temp_file("scene.json", text);
+  const std::string message = file_error_of(path);
+  const size_t at = text.find("1e400");
+  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + at, '\n'));
+  const int column = static_cast<int>(at - text.rfind('\n', at));
+  EXPECT_EQ(message, path + ":" + std::to_string(line) + ":" + std::to_string(column) +
+                         ": number 1e400 is out of the range of a double");
+}
+
+TEST(SceneBadInput, WrongArrayLength) {
+  json s = valid();
+  s["bodies"][1]["position"] = {0, -1};
+  expect_error(s, "bodies[1] (\"b1\")", {"position must be an array of 3 numbers", "[0,-1]"});
+  s = valid();
+  s["bodies"][2]["orientation"] = {1, 0, 0};
+  expect_error(s, "bodies[2] (\"b2\")", {"orientation must be an array of 4 numbers"});
+  s = valid();
+  s["constraints"][2]["anchors"] = {{1, -1, 0}};
+  expect_error(s, "constraints[2]", {"anchors must be an array of 2 points"});
+  s = valid();
+  s["constraints"][2]["anchors"][0] = {1, -1, 0, 0};
+  expect_error(s, "constraints[2]", {"anchors[0] must be an array of 3 numbers"});
+  s = valid();
+  s["constraints"][0]["bodies"] = {"ground", "b1", "b2"};
+  expect_error(s, "constraints[0]", {"bodies must be an array of 2 body names"});
+  s = valid();
+  s["gravity"] = {0, -9.81, 0, 1};
+  expect_error(s, "", {"gravity must be an array of 3 numbers"});
+}
+
+TEST(SceneBadInput, WrongJsonType) {
+  json s = valid();
+  s["bodies"][1]["mass"] = "heavy";
+  expect_error(s, "bodies[1] (\"b1\")", {"mass must be a number, got \"heavy\""});
+  s = valid();
+  s["bodies"][1]["static"] = "yes";
+  expect_error(s, "bodies[1] (\"b1\")", {"static must be true or false"});
+  s = valid();
+  s["bodies"][1]["name"] = 7;
+  expect_error(s, "bodies[1]", {"name must be a string, got 7"});
+  s = valid();
+  s["bodies"][1]["position"] = {0, "-1", 0};
+  expect_error(s, "bodies[1] (\"b1\")", {"position must be an array of 3 numbers"});
+  s = valid();
+  s["bodies"][1]["inertia"] = true;
+  expect_error(s, "bodies[1] (\"b1\")", {"inertia must be an array of 3 numbers, got true"});
+  s = valid();
+  s["bodies"] = json::object();
+  expect_error(s, "", {"bodies must be an array"});
+  s = valid();
+  s["constraints"][4] = "hinge";
+  expect_error(s, "constraints[4]", {"a constraint must be a JSON object"});
+  s = valid();
+  s["bodies"][0] = json::array();
+  expect_error(s, "bodies[0]", {"a body must be a JSON object"});
+  s = valid();
+  s["constraints"][1]["type"] = 5;
+  expect_error(s, "constraints[1]", {"type must be a string"});
+  s = valid();
+  s["constraints"][0]["bodies"] = {"ground", 1};
+  expect_error(s, "constraints[0]", {"bodies must be an array of 2 body names"});
+  s = valid();
+  s["name"] = json::array();
+  expect_error(s, "", {"name must be a string"});
+  expect_error(json::array(), "", {"the scene must be a JSON object"});
+}
+
+TEST(SceneBadInput, MissingRequiredField) {
+  const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+      {"bodies", {}},
+      {"bodies/1/mass", {"bodies[1] (\"b1\")"}},
+      {"bodies/1/inertia", {"bodies[1] (\"b1\")"}},
+      {"bodies/1/position", {"bodies[1] (\"b1\")"}},
+      {"bodies/0/position", {"bodies[0] (\"ground\")"}},
+      {"bodies/2/name", {"bodies[2]"}},
+      {"constraints/1/anchor", {"constraints[1]"}},
+      {"constraints/1/axis", {"constraints[1]"}},
+      {"constraints/1/type", {"constraints[1]"}},
+      {"constraints/1/bodies", {"constraints[1]"}},
+      {"constraints/2/anchors", {"constraints[2]"}},
+      {"constraints/3/min", {"constraints[3]"}},
+      {"constraints/4/max", {"constraints[4]"}},
+      {"constraints/4/anchor", {"constraints[4]"}},
+  };
+  for (const auto& [pointer, entry] : cases) {
+    SCOPED_TRACE(pointer);
+    json s = valid();
+    const json::json_pointer p(std::string("/") + pointer);
+    s[p.parent_pointer()].erase(p.back());
+    expect_error(s, entry.empty() ? "" : entry[0], {std::string("missing \"") + p.back() + "\""});
+  }
+}
+
+TEST(SceneBadInput, UnknownTopLevelKey) {
+  json s = valid();
+  s["gravty"] = {0, -1, 0};
+  expect_error(s, "", {"unknown key \"gravty\"", "gravity"});
+}
+
+TEST(SceneBadInput, UnknownKeyInAnEntry) {
+  json s = valid();
+  s["bodies"][1]["positon"] = {0, 0, 0};
+  expect_error(s, "bodies[1] (\"b1\")", {"unknown key \"positon\"", "position"});
+  s = valid();
+  s["constraints"][1]["length"] = 1;  // a key of other types, not of a hinge
+  expect_error(s, "constraints[1]", {"unknown key \"length\"", "a hinge constraint"});
+  s = valid();
+  s["bodies"][0]["mass"] = 1;  // a static body has no mass
+  expect_error(s, "bodies[0] (\"ground\")", {"unknown key \"mass\"", "a static body"});
+  s = valid();
+  s["constraints"][3]["anchor"] = {0, 0, 0};  // an angular limit has no anchor
+  expect_error(s, "constraints[3]", {"unknown key \"anchor\""});
+}
+
+TEST(SceneBadInput, MinGreaterThanMax) {
+  json s = valid();
+  s["constraints"][3]["min"] = 0.6;
+  expect_error(s, "constraints[3]", {"min (0.6) exceeds max (0.5)"});
+  s = valid();
+  s["constraints"][4]["max"] = -0.2;
+  expect_error(s, "constraints[4]", {"min (-0.1) exceeds max (-0.2)"});
+  s = valid();
+  s["constraints"][4]["max"] = -0.1;  // equal is a locked slide: allowed
+  EXPECT_NO_THROW(parse_scene(s, "scene.json"));
+}
+
+TEST(SceneBadInput, NonPositiveLength) {
+  for (double length : {0.0, -1.0}) {
+    json s = valid();
+    s["constraints"][2]["length"] = length;
+    expect_error(s, "constraints[2]", {"length must be positive"});
+  }
+}
+
+TEST(SceneBadInput, NonPositiveTimestep) {
+  for (double dt : {0.0, -0.01}) {
+    json s = valid();
+    s["timestep"] = dt;
+    expect_error(s, "", {"timestep must be positive"});
+  }
+}
+
+TEST(SceneBadInput, RodOrRopeWithCoincidentAnchors) {
+  json s = valid();
+  s["constraints"][5]["anchors"] = {{0.5, -1, 0}, {0.5, -1, 0}};
+  expect_error(s, "constraints[5]", {"anchors coincide"});
+  s = valid();
+  s["constraints"][2]["anchors"] = {{1, -1, 0}, {1, -1, 1e-13}};
+  expect_error(s, "constraints[2]", {"anchors coincide"});
+}
+
+TEST(SceneBadInput, InvalidJsonSyntaxGivesTheParsersPosition) {
+  // line 3, column 15: the stray '}' where a value should be
+  const std::string path = temp_file("scene.json", "{\n  \"name\": \"x\",\n  \"timestep\": },\n  \"bodies\": []\n}\n");
+  const std::string message = file_error_of(path);
+  EXPECT_EQ(message.substr(0, path.size() + 6), path + ":3:15:") << message;
+  EXPECT_NE(message.find("invalid JSON"), std::string::npos) << message;
+  // an empty file, a truncated one
+  EXPECT_NE(file_error_of(temp_file("empty.json", "")).find("invalid JSON"), std::string::npos);
+  const std::string cut = temp_file("cut.json", "{\"bodies\": [");
+  EXPECT_EQ(file_error_of(cut).substr(0, cut.size() + 5), cut + ":1:13");
+}
+
+TEST(SceneBadInput, DuplicateKeyInAFile) {
+  // nlohmann-json would keep the last "mass" silently
+  std::string text = valid().dump(1);
+  text.replace(text.find("\"mass\": 2"), 9, "\"mass\": 2, \"mass\": 3");
+  const std::string message = file_error_of(temp_file("scene.json", text));
+  EXPECT_NE(message.find("bodies[2]: duplicate key \"mass\""), std::string::npos) << message;
+  const std::string top = file_error_of(temp_file("top.json", "{\"bodies\": [], \"bodies\": []}"));
+  EXPECT_NE(top.find(": duplicate key \"bodies\""), std::string::npos) << top;
+}
+
+TEST(SceneBadInput, UnreadableFile) {
+  const std::string missing = kTestData + "/scenes/no_such_file.json";
+  const std::string message = file_error_of(missing);
+  EXPECT_NE(message.find("cannot read"), std::string::npos) << message;
+  const std::string dir = temp_path("a_directory.json");
+  std::filesystem::create_directory(dir);
+  EXPECT_NE(file_error_of(dir).find("cannot read"), std::string::npos);
+}
+
+TEST(SceneBadInput, BadFixturesNameTheirFileAndEntry) {
+  // files as a user writes them, under tests/data/scenes
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"typo_positon.json", ": bodies[1] (\"link0\"): unknown key \"positon\""},
+      {"unknown_body.json", ": constraints[1]: unknown body \"link9\""},
+      {"zero_mass.json", ": bodies[2] (\"link1\"): mass must be positive, got 0"},
+      {"syntax_error.json", ":8:"},
+  };
+  for (const auto& [file, expected] : cases) {
+    const std::string path = kTestData + "/scenes/" + file;
+    const std::string message = file_error_of(path);
+    EXPECT_EQ(message.substr(0, path.size() + expected.size()), path + expected) << message;
+  }
+}
+
+}  // namespace
+}  // namespace ldlpgs
