@@ -4,6 +4,9 @@
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <string>
+
+#include "physics/mechanism.h"
 
 namespace ldlpgs::cli {
 
@@ -13,5 +16,10 @@ Command add_order_command(CLI::App& app);
 Command add_report_command(CLI::App& app);
 Command add_verify_command(CLI::App& app);
 Command add_bench_command(CLI::App& app);
+Command add_step_command(CLI::App& app);
+Command add_export_command(CLI::App& app);
+
+// A scene file, or a built-in scene's name (physics/scenes.h); InputError otherwise.
+Mechanism load_mechanism(const std::string& spec);
 
 }  // namespace ldlpgs::cli

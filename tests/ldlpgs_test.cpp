@@ -110,7 +110,7 @@ TEST(LdlpgsOrder, TablePrintsEveryOrdering) {
 }
 
 TEST(LdlpgsOrder, HelpOnEverySubcommand) {
-  for (const char* sub : {"", "order", "report", "verify", "bench"}) {
+  for (const char* sub : {"", "order", "report", "verify", "bench", "step", "export"}) {
     const Result r = run(std::string(sub) + " --help");
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
@@ -156,6 +156,70 @@ TEST(LdlpgsBench, JsonFields) {
   EXPECT_GT(j["gflops"].get<double>(), 0);
   EXPECT_EQ(j["ordering"], "meca");
   for (const auto& [solver, error] : j["backward_error"].items()) EXPECT_LE(error.get<double>(), 1e-14) << solver;
+}
+
+TEST(LdlpgsStep, JsonFieldsOnABuiltInScene) {
+  const Result r = run("step heavy-chain-10-1000 --steps 50 --json");
+  ASSERT_EQ(r.code, 0) << r.err << r.out;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  for (const char* key : {"steps", "solver", "iterations", "solve_us_median", "position_error_max", "angular_error_max",
+                          "velocity_residual_max", "energy_initial", "energy_final"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["steps"], 50);
+  EXPECT_EQ(j["solver"], "ldl-pgs");
+  EXPECT_GT(j["solve_us_median"].get<double>(), 0);
+  EXPECT_LT(j["position_error_max"].get<double>(), 1e-3);
+}
+
+TEST(LdlpgsStep, TraceHasOneRowPerStepAndBody) {
+  const std::string trace = temp_path("trace.csv");
+  const Result r = run("step pendulum --steps 7 --solver direct --trace " + trace);
+  ASSERT_EQ(r.code, 0) << r.err << r.out;
+  std::ifstream in(trace);
+  std::string header, line;
+  std::getline(in, header);
+  EXPECT_EQ(header, "step,time,body,x,y,z,qw,qx,qy,qz");
+  int rows = 0;
+  while (std::getline(in, line)) ++rows;
+  const Result j = run("step pendulum --steps 1 --json");
+  ASSERT_EQ(j.code, 0) << j.err;
+  EXPECT_EQ(rows, 8 * nlohmann::json::parse(j.out)["bodies"].get<int>());  // steps 0..7, every body
+}
+
+TEST(LdlpgsExport, MatrixVerifiesAgainstCholmod) {
+  const std::string mtx = temp_path("h.mtx"), blocks = temp_path("h.blocks");
+  const Result r = run("export tracked-vehicle --matrix " + mtx + " --blocks " + blocks);
+  ASSERT_EQ(r.code, 0) << r.err << r.out;
+  const SymmetricCsc h = read_matrix_market(mtx);
+  const std::vector<int> sizes = read_partition(blocks, h.n);
+  EXPECT_EQ(h.n, 200);  // the talk's tracked vehicle: 40 hinges, dim(H) = 200
+  EXPECT_EQ(sizes.size(), 40u);
+  const Result v = run("verify " + mtx + " --blocks " + blocks + " --json");
+  ASSERT_EQ(v.code, 0) << v.err << v.out;
+  EXPECT_TRUE(nlohmann::json::parse(v.out)["ok"].get<bool>());
+}
+
+TEST(LdlpgsBadInput, UnknownScene) { expect_input_error("step no-such-scene", {"no-such-scene", "built-in"}); }
+
+TEST(LdlpgsBadInput, UnknownSolver) { expect_input_error("step pendulum --solver magic", {"--solver", "magic", "ldl-pgs"}); }
+
+TEST(LdlpgsBadInput, DirectOnInequalities) {
+  expect_input_error("step ragdoll --solver direct", {"direct", "ragdoll", "angular_limit"});
+}
+
+TEST(LdlpgsBadInput, NonPositiveTimestep) { expect_input_error("step pendulum --timestep -1", {"--timestep"}); }
+
+TEST(LdlpgsBadInput, SceneWithUnknownBody) {
+  const std::string path = temp_file("bad.json", R"({"name": "bad", "bodies": [{"name": "a", "mass": 1,
+    "inertia": [1, 1, 1], "position": [0, 0, 0]}], "constraints": [{"type": "ball", "bodies": ["a", "ghost"],
+    "anchor": [0, 0, 0]}]})");
+  expect_input_error("step " + path, {"bad.json", "constraints[0]", "ghost"});
+}
+
+TEST(LdlpgsBadInput, SceneWithZeroMass) {
+  const std::string path = temp_file("zero.json", R"({"name": "z", "bodies": [{"name": "a", "mass": 0,
+    "inertia": [1, 1, 1], "position": [0, 0, 0]}], "constraints": []})");
+  expect_input_error("export " + path + " --matrix x.mtx --blocks x.blocks", {"zero.json", "bodies[0]", "mass"});
 }
 
 TEST(LdlpgsBadInput, UnknownFamily) {
