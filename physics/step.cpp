@@ -55,7 +55,6 @@ System build_system(const Mechanism& m, const StepOptions& options) {
   const double dt = m.timestep;
   System s;
   s.num_columns = m.num_dynamic_bodies();
-  s.compliance = options.compliance;
   s.inverse_mass.assign(36 * static_cast<size_t>(s.num_columns), 0.0);
   // V0 + W F dt per column (gravity is the only external force)
   std::vector<double> v0(6 * static_cast<size_t>(s.num_columns));
@@ -96,6 +95,7 @@ System build_system(const Mechanism& m, const StepOptions& options) {
       s.rhs[s.blocks[k].position + r] = target - jv;
     }
   }
+  s.set_compliance(options.compliance);
   return s;
 }
 

@@ -24,7 +24,7 @@ void BlockCache::update(const System& system) {
       n.noalias() += j * w * j.transpose();
     }
     for (int r = 0; r < b.size; ++r) {
-      diag_n[b.position + r] = system.compliance * n(r, r);
+      diag_n[b.position + r] = system.compliance[b.position + r] * n(r, r);
       n(r, r) += diag_n[b.position + r];
     }
     factors[k].compute(n);

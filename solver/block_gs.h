@@ -13,11 +13,11 @@ namespace ldlpgs {
 constexpr int kMaxRowBlock = 6;  // the talk's constraints have 1..6 rows
 using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxRowBlock, kMaxRowBlock>;
 
-// Per equality block: N_k = J_k W J_k^T + eps diag(N_k), factored once per step (fixed-size
+// Per equality block: N_k = J_k W J_k^T + diag(eps_i (N_k)_ii), factored once per step (fixed-size
 // storage, no heap).
 struct BlockCache {
   std::vector<Eigen::LDLT<SmallMatrix>> factors;  // (size num_blocks; empty for inequality blocks)
-  std::vector<double> diag_n;                     // eps diag(N_k) per row (size num_rows)
+  std::vector<double> diag_n;                     // eps_i (N_k)_ii per row (size num_rows)
   void update(const System& system);
 };
 

@@ -40,6 +40,12 @@ EqualityMatrix::EqualityMatrix(const System& structure) {
       }
   }
   h_ = csc_from_triplets(n, entries);
+  for (int j = 0; j < n; ++j) {  // rows ascending within a column: the diagonal comes first
+    assert(h_.row_idx[h_.col_ptr[j]] == j);
+    diagonal_.push_back(h_.col_ptr[j]);
+  }
+  for (int k : system_block_)
+    for (int r = 0; r < structure.blocks[k].size; ++r) system_row_.push_back(structure.blocks[k].position + r);
   blocks_ = BlockPattern::from_scalar(h_, sizes);
   // positions of each product's entries in the lower triangle
   for (Product& prod : products_) {
@@ -84,6 +90,7 @@ void EqualityMatrix::assemble(const System& system) {
       }
     }
   }
+  for (int r = 0; r < h_.n; ++r) h_.values[diagonal_[r]] *= 1 + system.compliance[system_row_[r]];
 }
 
 }  // namespace ldlpgs

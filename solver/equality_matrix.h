@@ -17,7 +17,7 @@ class EqualityMatrix {
   // The pattern: every pair of equality blocks sharing a column is a dense block of H_0.
   explicit EqualityMatrix(const System& structure);
 
-  // H_0's values for this step (no compliance: the factorization adds eps diag(H_0)).
+  // H_0 + diag(eps_i (H_0)_ii) for this step: J_0 W J_0^T and the rows' compliance.
   void assemble(const System& system);
 
   const SymmetricCsc& matrix() const { return h_; }
@@ -39,6 +39,8 @@ class EqualityMatrix {
   std::vector<int> system_block_;  // (size equality blocks)
   std::vector<Product> products_;  // (size number of products)
   std::vector<int64_t> index_;     // position in h_.values of each product entry (rx, ry), row-major; -1: upper half
+  std::vector<int64_t> diagonal_;  // position in h_.values of each diagonal entry (size h_.n)
+  std::vector<int> system_row_;    // the System row of each row of H_0 (size h_.n)
 };
 
 }  // namespace ldlpgs

@@ -18,10 +18,11 @@ namespace ldlpgs {
 class LdlBlock {
  public:
   LdlBlock(const System& structure, const std::string& ordering);
-  // Assembles H_0 and factors H_0 + eps diag(H_0).
+  // Assembles H_0 + diag(eps_i (H_0)_ii) and factors it.
   FactorInfo factorize(const System& system);
-  // One exact block step: dlambda_0 = (H_0 + eps D_0)^-1 (R_0 - J_0 dV - eps D_0 lambda_0),
-  // lambda_0 += dlambda_0, dV += W J_0^T dlambda_0 (D_0 = diag(H_0) = the row cache's diag).
+  // One exact block step: dlambda_0 = (H_0 + E D_0)^-1 (R_0 - J_0 dV - E D_0 lambda_0),
+  // lambda_0 += dlambda_0, dV += W J_0^T dlambda_0 (D_0 = diag(H_0) = the row cache's diag,
+  // E = diag(eps_i)).
   void block_step(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv);
   const Symbolic& symbolic() const { return *symbolic_; }
 

@@ -18,17 +18,16 @@ LdlBlock::LdlBlock(const System& structure, const std::string& ordering) : h_(st
 
 FactorInfo LdlBlock::factorize(const System& system) {
   h_.assemble(system);
-  return numeric_->factorize(h_.matrix(), {.regularization = system.compliance});
+  return numeric_->factorize(h_.matrix());  // the compliance is in H_0's diagonal already
 }
 
 void LdlBlock::block_step(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv) {
-  const double eps = system.compliance;
   int at = 0;
   for (int k : h_.system_blocks()) {
     const RowBlock& b = system.blocks[k];
     for (int r = 0; r < b.size; ++r, ++at) {
       const int i = b.position + r;
-      work_[at] = system.rhs[i] - row_times(system, k, r, dv) - eps * rows.diag[i] * lambda[i];
+      work_[at] = system.rhs[i] - row_times(system, k, r, dv) - system.compliance[i] * rows.diag[i] * lambda[i];
     }
   }
   if (!work_.empty()) numeric_->solve(work_);

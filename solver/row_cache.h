@@ -38,8 +38,8 @@ inline void add_row_impulse(const System& system, const RowCache& cache, int k, 
     for (int c = 0; c < 6; ++c) dv[6 * b.column_b + c] += w[6 + c] * dlambda;
 }
 
-// One projected Gauss-Seidel step on row i (row r of block k) of (H + eps diag(H)) lambda = R:
-//   lambda_i <- clamp(lambda_i + (R_i - J_i dV - eps H_ii lambda_i) / ((1 + eps) H_ii))
+// One projected Gauss-Seidel step on row i (row r of block k) of (H + diag(eps_i H_ii)) lambda = R:
+//   lambda_i <- clamp(lambda_i + (R_i - J_i dV - eps_i H_ii lambda_i) / ((1 + eps_i) H_ii))
 //   dV_a += W_a J_ia^T dlambda,  dV_b += W_b J_ib^T dlambda
 // About 50 flops (the talk). A row with H_ii = 0 touches no dynamic column and is skipped.
 inline void pgs_row(const System& system, const RowCache& cache, int k, int r, std::span<double> lambda,
@@ -47,7 +47,7 @@ inline void pgs_row(const System& system, const RowCache& cache, int k, int r, s
   const int i = system.blocks[k].position + r;
   const double d = cache.diag[i];
   if (d <= 0) return;
-  const double eps = system.compliance;
+  const double eps = system.compliance[i];
   const double old = lambda[i];
   const double updated = std::clamp(old + (system.rhs[i] - row_times(system, k, r, dv) - eps * d * old) / ((1 + eps) * d),
                                     system.lower[i], system.upper[i]);

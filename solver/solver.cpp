@@ -98,12 +98,8 @@ double velocity_residual(const System& system, std::span<const double> lambda, s
 SymmetricCsc equality_matrix(const System& system, std::vector<int>* block_sizes) {
   EqualityMatrix h(system);
   h.assemble(system);
-  SymmetricCsc a = h.matrix();
-  for (int j = 0; j < a.n; ++j)
-    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p)
-      if (a.row_idx[p] == j) a.values[p] *= 1 + system.compliance;
   if (block_sizes) *block_sizes = h.blocks().block_sizes();
-  return a;
+  return h.matrix();
 }
 
 }  // namespace ldlpgs

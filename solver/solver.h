@@ -74,7 +74,7 @@ class Solver {
 // bound, only the side the bound forbids (lower: J_i dV < R_i, upper: J_i dV > R_i).
 double velocity_residual(const System& system, std::span<const double> lambda, std::span<const double> dv);
 
-// H_0 + eps diag(H_0), H_0 = J_0 W J_0^T over the equality blocks: the matrix ldl-pgs and direct
+// H_0 + diag(eps_i (H_0)_ii), H_0 = J_0 W J_0^T over the equality blocks: the matrix ldl-pgs and direct
 // factor, lower triangle, and its block sizes (the equality blocks' rows, in order).
 SymmetricCsc equality_matrix(const System& system, std::vector<int>* block_sizes);
 

@@ -19,6 +19,7 @@ int System::add_block(int size, int column_a, int column_b) {
   lower.resize(num_rows, -kUnbounded);
   upper.resize(num_rows, kUnbounded);
   rhs.resize(num_rows, 0.0);
+  compliance.resize(num_rows, 0.0);
   return static_cast<int>(blocks.size()) - 1;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
 // The impulse problem of one step, in rows (the talk's "velocity step"): find lambda with
-//   (H + eps diag(H)) lambda = R on equality rows,  H = J W J^T,
+//   (H + diag(eps_i H_ii)) lambda = R on equality rows,  H = J W J^T,
 // and lambda_i in [lower_i, upper_i] with complementarity on bounded rows, where
 // R = target - J (V0 + W F dt) and the velocity change is dV = W J^T lambda.
 // The solver sees rows, blocks and bounds only: columns come in velocity blocks of 6 (a rigid
@@ -34,7 +34,9 @@ struct System {
   std::vector<double> inverse_mass;   // W: one 6x6 row-major symmetric block per column block (size 36 * num_columns)
   std::vector<double> lower, upper;   // bounds on lambda per row (size num_rows); equality rows +-kUnbounded
   std::vector<double> rhs;            // R per row (size num_rows)
-  double compliance = 0;              // eps: the solver works on H + eps diag(H)
+  // The talk's compliance, scaled per row: eps_i (size num_rows); the solvers work on
+  // H + diag(eps_i H_ii). 0 is a rigid row.
+  std::vector<double> compliance;
 
   // Appends a block of `size` rows; returns its index. Its cells, bounds and rhs start at zero
   // and unbounded.
@@ -43,6 +45,8 @@ struct System {
   double* cell_b(int block) { return cell_a(block) + 6 * blocks[block].size; }
   const double* cell_a(int block) const { return jacobian.data() + blocks[block].offset; }
   const double* cell_b(int block) const { return cell_a(block) + 6 * blocks[block].size; }
+  // eps_i = eps on every row.
+  void set_compliance(double eps) { compliance.assign(num_rows, eps); }
   // Marks a block as bounded on all its rows (an inequality).
   void set_bounds(int block, double lower_bound, double upper_bound);
   // Same blocks, columns and bounds kinds (the structure a solver's symbolic phase depends on).

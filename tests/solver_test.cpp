@@ -25,7 +25,6 @@ System random_system(int num_columns, std::span<const int> sizes, const std::vec
   std::uniform_real_distribution<double> u(-1, 1), pos(0.5, 2);
   System s;
   s.num_columns = num_columns;
-  s.compliance = compliance;
   s.inverse_mass.assign(36 * num_columns, 0.0);
   for (int c = 0; c < num_columns; ++c) {
     const Eigen::Matrix3d r = Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
@@ -45,6 +44,7 @@ System random_system(int num_columns, std::span<const int> sizes, const std::vec
     if (bounded[k]) s.set_bounds(blk, 0, kUnbounded);
   }
   for (double& r : s.rhs) r = u(rng);
+  s.set_compliance(compliance);
   return s;
 }
 
@@ -67,7 +67,7 @@ Dense dense(const System& s) {
 Eigen::MatrixXd regularized_h(const System& s) {
   const Dense d = dense(s);
   Eigen::MatrixXd h = d.j * d.w * d.j.transpose();
-  h.diagonal() *= 1 + s.compliance;
+  for (int i = 0; i < s.num_rows; ++i) h(i, i) *= 1 + s.compliance[i];
   return h;
 }
 
@@ -209,7 +209,7 @@ TEST(Solver, RedundantRowsNeedCompliance) {
   std::copy(s.cell_a(0), s.cell_a(0) + 36, s.cell_a(1));
   const Outcome singular = run(s, SolverKind::direct, 1);
   EXPECT_EQ(singular.result.factor.status, FactorStatus::zero_pivot) << singular.result.factor.message();
-  s.compliance = 1e-8;
+  s.set_compliance(1e-8);
   const Outcome regular = run(s, SolverKind::direct, 1);
   ASSERT_TRUE(regular.result.ok()) << regular.result.factor.message();
   // consistent right-hand side: the same targets on both copies; the impulse splits evenly
@@ -217,6 +217,26 @@ TEST(Solver, RedundantRowsNeedCompliance) {
   const Outcome split = run(s, SolverKind::direct, 1);
   for (int r = 0; r < 3; ++r) EXPECT_NEAR(split.lambda[r], split.lambda[3 + r], 1e-6 * std::abs(split.lambda[r]) + 1e-12);
   EXPECT_LT(velocity_residual(s, split.lambda, split.dv), 1e-6);
+}
+
+TEST(Solver, ComplianceIsPerRow) {
+  // Rigid rows beside soft ones: every solver works on H + diag(eps_i H_ii), whatever eps_i.
+  System s = random_system(13, kSizes, kAllEquality, 13);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> exponent(-8, -1);
+  for (double& eps : s.compliance) eps = rng() % 3 == 0 ? 0.0 : std::pow(10.0, exponent(rng));
+  const Eigen::VectorXd expected = regularized_h(s).ldlt().solve(Eigen::Map<const Eigen::VectorXd>(s.rhs.data(), s.num_rows));
+  EXPECT_LT(max_diff(run(s, SolverKind::direct, 1).lambda, expected), 1e-10);
+  EXPECT_LT(max_diff(run(s, SolverKind::ldl_pgs, 1).lambda, expected), 1e-10);
+  EXPECT_LT(max_diff(run(s, SolverKind::block_gs, 4000).lambda, expected), 1e-6);
+  std::vector<int> sizes;
+  const SymmetricCsc h = equality_matrix(s, &sizes);
+  const Eigen::MatrixXd dense_h = regularized_h(s);
+  double diff = 0;
+  for (int j = 0; j < h.n; ++j)
+    for (int p = h.col_ptr[j]; p < h.col_ptr[j + 1]; ++p) diff = std::max(diff, std::abs(h.values[p] - dense_h(h.row_idx[p], j)));
+  EXPECT_LT(diff, 1e-12 * dense_h.cwiseAbs().maxCoeff());
+  EXPECT_EQ(sizes, kSizes);
 }
 
 TEST(Solver, NamesRoundTrip) {
