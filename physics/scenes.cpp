@@ -355,6 +355,161 @@ Mechanism multi_wheeled_vehicle() {
   return m;
 }
 
+// ---- planar linkages (the mechanism-50 walker): points and velocities in the plane z = const ----
+
+using Eigen::Vector2d;
+
+double cross2(const Vector2d& a, const Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+Vector2d perp(const Vector2d& r) { return Vector2d(-r.y(), r.x()); }  // z x r
+
+// The point at distance rp from p and rq from q, left (side +1) or right (-1) of the line p -> q.
+Vector2d circle_intersection(const Vector2d& p, double rp, const Vector2d& q, double rq, int side) {
+  const Vector2d pq = q - p;
+  const double d2 = pq.squaredNorm(), d = std::sqrt(d2);
+  const double along = (rp * rp - rq * rq + d2) / (2 * d);
+  const Vector2d u = pq / d;
+  return p + along * u + side * std::sqrt(rp * rp - along * along) * perp(u);
+}
+
+// The velocity of a point x held at fixed distances from p and q (a dyad):
+// (x - p).(v - vp) = 0 and (x - q).(v - vq) = 0, solved by Cramer's rule.
+Vector2d dyad_velocity(const Vector2d& x, const Vector2d& p, const Vector2d& vp, const Vector2d& q, const Vector2d& vq) {
+  const Vector2d a = x - p, b = x - q;
+  const double ra = a.dot(vp), rb = b.dot(vq), det = cross2(a, b);
+  return Vector2d(ra * b.y() - rb * a.y(), a.x() * rb - b.x() * ra) / det;
+}
+
+// Sets the body's velocities to the planar rigid motion (rotation about z) that moves point p
+// at vp and point q at vq; (q - p).(vq - vp) = 0, as the dyads above give.
+void move_planar(RigidBody* body, const Vector2d& p, const Vector2d& vp, const Vector2d& q, const Vector2d& vq) {
+  const double w = cross2(q - p, vq - vp) / (q - p).squaredNorm();
+  const Vector2d v = vp + w * perp(body->position.head<2>() - p);
+  body->linear_velocity = Vector3d(v.x(), v.y(), 0);
+  body->angular_velocity = Vector3d(0, 0, w);
+}
+
+// A uniform triangular plate of the given mass and thickness with corners p, q, r in the plane
+// z: centre of mass at the centroid, body frame on its principal axes. About the centroid the
+// plate's second moment is S = m/12 sum v v^T over the corners v (integrating x x^T over the
+// triangle in barycentric coordinates); its principal directions in the plane are at angle phi, tan 2 phi = 2 S_xy /
+// (S_xx - S_yy); I = trace(S) Id - S, the thickness adding m t^2 / 12 to the in-plane axes.
+RigidBody triangle_plate(const std::string& name, double mass, double thickness, const Vector2d& p, const Vector2d& q,
+                         const Vector2d& r, double z) {
+  const Vector2d c = (p + q + r) / 3;
+  Eigen::Matrix2d s = Eigen::Matrix2d::Zero();
+  const Vector2d corners[] = {p - c, q - c, r - c};
+  for (const Vector2d& v : corners) s += mass / 12 * v * v.transpose();
+  const double phi = 0.5 * std::atan2(2 * s(0, 1), s(0, 0) - s(1, 1));
+  const Vector2d u(std::cos(phi), std::sin(phi));
+  const double s1 = u.dot(s * u), s2 = perp(u).dot(s * perp(u)), t = mass * thickness * thickness / 12;
+  return dynamic_body(name, mass, Vector3d(s2 + t, s1 + t, s1 + s2), Vector3d(c.x(), c.y(), z),
+                      Eigen::Quaterniond(Eigen::AngleAxisd(phi, kZ)));
+}
+
+// A Strandbeest on a test stand, the talk's 50-constraint mechanism in size and shape: 48 hinges
+// and 2 ball joints, dim(H) = 246, H 12% dense. Five Theo Jansen legs (Jansen's "holy numbers"
+// in cm, as metres / 100: crank 0.15, a = 0.38, l = 0.078, b 0.415, c 0.393, d 0.401, e 0.558,
+// f 0.394, g 0.367, h 0.657, i 0.49, j 0.5, k 0.619) in the planes z = -0.4 .. 0.4, driven by
+// one crankshaft (20 kg, a 1.4 m shaft of radius 2.5 cm along z through O = (0, 1, 0)) whose
+// five throws are 72 degrees apart. It turns in two self-aligning bearings of the static frame,
+// ball joints at z = +-0.6 (together a hinge about z; the ball rows along z are one redundant
+// pair). Legs 0, 2, 4 face -x, legs 1, 3 are mirrored (their fixed pivot B at +x), so that all
+// feet push the same way. Each leg is six bodies and nine hinges (axes z): the links j (crank
+// pin A - C) and k (A - E), the plate B-C-D hinged to the frame at B, the rocker c (B - E), the
+// link f (D - F) and the foot plate E-F-G hinged to the rocker at E; its three loops close
+// through the crankshaft and the frame. Links are aluminium bars 2 x 2 cm (1.08 kg/m), plates
+// 1 cm aluminium (27 kg/m^2). A motor's rotor (a 12 kg disc, radius 0.25 m, 4 cm thick, hinged
+// to the frame 6 cm beside the crankshaft's axis, beyond its end at z = -0.75) drives an
+// overhung throw (0.2 m, z = -0.7) through a 0.22 m connecting rod (0.5 kg) pinned 0.2 m from
+// the rotor's axis: a drag link (the frame is its shortest bar, so both cranks turn fully and
+// never reach a dead centre). The crankshaft turns at 4 rad/s and every other body moves with it
+// (velocities from the derivatives of the dyads), the legs swinging under gravity through the
+// air, the feet 8 cm above y = 0 at the bottom of their stride. The frame is static, so the
+// crankshaft joins 13 constraints (a dense 61 x 61 block of H) and the frame's own couple
+// nothing: 34 bodies, 33 dynamic.
+Mechanism mechanism_50() {
+  Mechanism m;
+  m.name = "mechanism-50";
+  const Vector2d o(0, 1);  // crank axis, in the plane (x, y)
+  const double w = 4, theta0 = 0.3;
+  const double crank = 0.15, a = 0.38, l = 0.078, b = 0.415, c = 0.393, d = 0.401, e = 0.558, f = 0.394, g = 0.367,
+               h = 0.657, i = 0.49, j = 0.5, k = 0.619;
+  const double bar_density = 1.08, plate_density = 27, bar_section = 0.02, plate_thickness = 0.01;
+  const int frame = m.add_body(static_body("frame", Vector3d(o.x(), o.y(), 0)));
+  const int shaft = m.add_body(dynamic_body("crankshaft", 20, cylinder_inertia(20, 0.025, 1.4, 2), Vector3d(o.x(), o.y(), 0)));
+  m.bodies[shaft].angular_velocity = w * kZ;
+  for (double z : {-0.6, 0.6}) ball(&m, frame, shaft, Vector3d(o.x(), o.y(), z));
+  auto at = [](const Vector2d& p, double z) { return Vector3d(p.x(), p.y(), z); };
+  auto bar = [&](const std::string& name, const Vector2d& p, const Vector2d& q, double z) {
+    const double length = (q - p).norm(), mass = bar_density * length;
+    return m.add_body(dynamic_body(name, mass, box_inertia(mass, length, bar_section, bar_section), at(0.5 * (p + q), z),
+                                   along_xy(at(p, z), at(q, z))));
+  };
+  auto plate = [&](const std::string& name, const Vector2d& p, const Vector2d& q, const Vector2d& r, double z) {
+    const double mass = plate_density * 0.5 * std::abs(cross2(q - p, r - p));
+    return m.add_body(triangle_plate(name, mass, plate_thickness, p, q, r, z));
+  };
+  auto hinge = [&](int body_a, int body_b, const Vector2d& p, double z) {
+    axial(&m, ConstraintType::hinge, body_a, body_b, at(p, z), kZ);
+  };
+  for (int leg = 0; leg < 5; ++leg) {
+    const double z = -0.4 + 0.2 * leg, s = leg % 2 == 0 ? 1 : -1;  // s = -1: mirrored, x -> -x
+    // the leg in its own coordinates (crank axis at the origin, B at (-a, -l)), where the crank
+    // pin is at angle phi and turns at s w; the sides of the intersections give Jansen's shape
+    const double theta = theta0 + 2 * kPi * leg / 5, phi = s > 0 ? theta : kPi - theta;
+    const Vector2d pa = crank * Vector2d(std::cos(phi), std::sin(phi)), pb(-a, -l), zero = Vector2d::Zero();
+    const Vector2d pc = circle_intersection(pa, j, pb, b, -1), pd = circle_intersection(pb, d, pc, e, 1),
+                   pe = circle_intersection(pb, c, pa, k, -1), pf = circle_intersection(pd, f, pe, g, -1),
+                   pg = circle_intersection(pe, i, pf, h, 1);
+    const Vector2d va = s * w * perp(pa), vc = dyad_velocity(pc, pa, va, pb, zero),
+                   vd = dyad_velocity(pd, pb, zero, pc, vc), ve = dyad_velocity(pe, pb, zero, pa, va),
+                   vf = dyad_velocity(pf, pd, vd, pe, ve);
+    // to the world: mirrored, then moved to the crank axis
+    auto point = [&](const Vector2d& p) { return Vector2d(o.x() + s * p.x(), o.y() + p.y()); };
+    auto velocity = [&](const Vector2d& v) { return Vector2d(s * v.x(), v.y()); };
+    const Vector2d A = point(pa), B = point(pb), C = point(pc), D = point(pd), E = point(pe), F = point(pf), G = point(pg);
+    const Vector2d vA = velocity(va), vC = velocity(vc), vD = velocity(vd), vE = velocity(ve), vF = velocity(vf);
+    const std::string prefix = numbered("leg", leg);
+    auto part = [&](const char* name) {
+      std::string full = prefix;
+      full += '_';
+      full += name;
+      return full;
+    };
+    const int upper = bar(part("upper"), A, C, z), hip = plate(part("hip"), B, C, D, z), lower = bar(part("lower"), A, E, z),
+              rocker = bar(part("rocker"), B, E, z), tie = bar(part("tie"), D, F, z), foot = plate(part("foot"), E, F, G, z);
+    move_planar(&m.bodies[upper], A, vA, C, vC);
+    move_planar(&m.bodies[hip], B, zero, C, vC);
+    move_planar(&m.bodies[lower], A, vA, E, vE);
+    move_planar(&m.bodies[rocker], B, zero, E, vE);
+    move_planar(&m.bodies[tie], D, vD, F, vF);
+    move_planar(&m.bodies[foot], E, vE, F, vF);
+    hinge(shaft, upper, A, z);
+    hinge(shaft, lower, A, z);
+    hinge(frame, hip, B, z);
+    hinge(frame, rocker, B, z);
+    hinge(upper, hip, C, z);
+    hinge(hip, tie, D, z);
+    hinge(lower, rocker, E, z);
+    hinge(rocker, foot, E, z);
+    hinge(tie, foot, F, z);
+  }
+  // the drive: the rotor's pin r, the overhung throw p and the rod between them (a drag link)
+  const double z_rotor = -0.75, z_rod = -0.7, ground = 0.06, rotor_pin = 0.2, rod = 0.22, throw_drive = 0.2;
+  const Vector2d centre = o + Vector2d(ground, 0);
+  const Vector2d p = o + throw_drive * Vector2d(std::cos(theta0), std::sin(theta0)), vp = w * perp(p - o);
+  const Vector2d r = circle_intersection(centre, rotor_pin, p, rod, 1), vr = dyad_velocity(r, centre, Vector2d::Zero(), p, vp);
+  const int rotor = m.add_body(dynamic_body("rotor", 12, cylinder_inertia(12, 0.25, 0.04, 2), at(centre, z_rotor)));
+  m.bodies[rotor].angular_velocity = Vector3d(0, 0, cross2(r - centre, vr) / (r - centre).squaredNorm());
+  const int link = m.add_body(dynamic_body("rod", 0.5, box_inertia(0.5, rod, bar_section, bar_section),
+                                           at(0.5 * (p + r), z_rod), along_xy(at(p, z_rod), at(r, z_rod))));
+  move_planar(&m.bodies[link], p, vp, r, vr);
+  hinge(frame, rotor, centre, z_rotor);
+  hinge(rotor, link, r, z_rod);
+  hinge(link, shaft, p, z_rod);
+  return m;
+}
+
 // "<digits>" in 1..100000, no sign, no leading zero.
 bool parse_count(std::string_view s, int* n) {
   if (s.empty() || s.size() > 6 || s[0] == '0') return false;
@@ -373,7 +528,7 @@ bool parse_ratio(std::string_view s, double* r) {
 
 std::vector<std::string> builtin_scene_names() {
   return {"pendulum", "chain-10", "heavy-chain-10-1000", "ragdoll", "four-bar",
-          "rope-bridge", "tracked-vehicle", "multi-wheeled-vehicle"};
+          "rope-bridge", "tracked-vehicle", "multi-wheeled-vehicle", "mechanism-50"};
 }
 
 bool builtin_scene(std::string_view name, Mechanism* mechanism) {
@@ -390,6 +545,8 @@ bool builtin_scene(std::string_view name, Mechanism* mechanism) {
     *mechanism = tracked_vehicle();
   } else if (name == "multi-wheeled-vehicle") {
     *mechanism = multi_wheeled_vehicle();
+  } else if (name == "mechanism-50") {
+    *mechanism = mechanism_50();
   } else if (name.starts_with(kChain)) {
     int n = 0;
     if (!parse_count(name.substr(kChain.size()), &n)) return false;

@@ -111,7 +111,8 @@ Eigen::MatrixXd equality_jacobian(const Mechanism& m) {
 TEST(Scenes, EveryBuiltinIsBuiltUnderItsName) {
   const std::vector<std::string> names = builtin_scene_names();
   EXPECT_EQ(names, (std::vector<std::string>{"pendulum", "chain-10", "heavy-chain-10-1000", "ragdoll", "four-bar",
-                                              "rope-bridge", "tracked-vehicle", "multi-wheeled-vehicle"}));
+                                              "rope-bridge", "tracked-vehicle", "multi-wheeled-vehicle",
+                                              "mechanism-50"}));
   for (const std::string& name : names) {
     const Mechanism m = builtin(name);
     EXPECT_EQ(m.name, name);
@@ -183,6 +184,7 @@ TEST(Scenes, CountsAreAsDesigned) {
       {"rope-bridge", {12, 10, 33, 33, 11}},  // 11 junctions of a rod and two ropes
       {"tracked-vehicle", {37, 37, 40, 200, 200}},
       {"multi-wheeled-vehicle", {21, 21, 20, 88, 88}},
+      {"mechanism-50", {34, 33, 50, 246, 246}},  // 48 hinges, 2 balls (the talk's size)
   };
   for (const std::string& name : builtin_scene_names()) {
     const Mechanism m = builtin(name);
