@@ -1,0 +1,158 @@
+// Speed against error and the mass ratio at which each solver breaks (apps/sweep.h).
+#include "apps/sweep.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "apps/commands.h"
+#include "physics/step.h"
+
+namespace ldlpgs::cli {
+
+std::vector<std::string> sweep_cases(bool full) {
+  if (!full)
+    return {"heavy-chain-10-10", "heavy-chain-10-1000", "heavy-chain-10-1e6", "chain-10", "chain-100",
+            "four-bar", "tracked-vehicle", "multi-wheeled-vehicle", "ragdoll"};
+  return {"heavy-chain-10-10", "heavy-chain-10-100", "heavy-chain-10-1000", "heavy-chain-10-1e4", "heavy-chain-10-1e5",
+          "heavy-chain-10-1e6", "chain-10", "chain-100", "chain-1000", "four-bar", "tracked-vehicle",
+          "multi-wheeled-vehicle", "ragdoll"};
+}
+
+std::vector<int> sweep_iterations(bool full) {
+  if (!full) return {1, 4, 16, 64};
+  return {1, 2, 4, 8, 16, 32, 64, 128};
+}
+
+namespace {
+
+bool has_inequalities(const Mechanism& m) {
+  return std::any_of(m.constraints.begin(), m.constraints.end(), [](const Constraint& c) { return !is_equality(c.type); });
+}
+
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+SweepPoint run_case(const Mechanism& m, const std::string& scene, const std::string& solver, int iterations,
+                    double seconds) {
+  SweepPoint p;
+  p.scene = scene;
+  p.solver = solver;
+  p.iterations = solver == "direct" ? 1 : iterations;
+  StepOptions options;
+  solver_kind_from_string(solver, &options.solver.kind);
+  options.solver.iterations = p.iterations;
+  const double energy0 = total_energy(m);
+  Simulation sim(m, options);
+  const int steps = std::max(1, static_cast<int>(std::lround(seconds / m.timestep)));
+  std::vector<double> us;
+  StepReport r;
+  for (int s = 0; s < steps; ++s) {
+    r = sim.step();
+    us.push_back(r.solve_us);
+    p.error_max = std::max(p.error_max, r.error.position_max);
+    if (!r.result.ok() || !std::isfinite(r.energy) || !std::isfinite(r.error.position_max)) {
+      p.failed = true;
+      break;
+    }
+  }
+  p.solve_us = median(us);
+  p.error = r.error.position_max;
+  // energy blow-up: the mechanism gained more energy than it had (gravity and Baumgarte do not)
+  if (std::isfinite(r.energy) && r.energy - energy0 > std::max(1.0, std::abs(energy0))) p.failed = true;
+  return p;
+}
+
+std::vector<SweepPoint> speed_vs_error(const std::vector<std::string>& cases, const std::vector<int>& iterations,
+                                       double seconds, bool progress) {
+  std::vector<SweepPoint> points;
+  for (const std::string& scene : cases) {
+    if (progress) std::fprintf(stderr, "sweep: %s\n", scene.c_str());
+    const Mechanism m = load_mechanism(scene);
+    for (const char* solver : {"pgs", "block-gs", "ldl-pgs"})
+      for (int it : iterations) points.push_back(run_case(m, scene, solver, it, seconds));
+    if (!has_inequalities(m)) points.push_back(run_case(m, scene, "direct", 1, seconds));
+  }
+  return points;
+}
+
+Mechanism with_mass_ratio(const Mechanism& m, double ratio) {
+  Mechanism out = m;
+  int heaviest = -1;
+  for (int b = 0; b < static_cast<int>(out.bodies.size()); ++b)
+    if (!out.bodies[b].is_static && (heaviest < 0 || out.bodies[b].mass >= out.bodies[heaviest].mass)) heaviest = b;
+  if (heaviest >= 0) {
+    out.bodies[heaviest].mass *= ratio;
+    out.bodies[heaviest].inertia *= ratio;
+  }
+  return out;
+}
+
+std::vector<Breakdown> stability(const std::vector<std::string>& cases, int iterations, double seconds, bool progress) {
+  std::vector<Breakdown> rows;
+  for (const std::string& scene : cases) {
+    if (progress) std::fprintf(stderr, "stability: %s\n", scene.c_str());
+    Mechanism base = load_mechanism(scene);
+    base.timestep = std::min(base.timestep, 0.0025);  // below the integrator's own centimetre (papers/physics.md)
+    std::vector<std::string> solvers = {"pgs", "block-gs", "ldl-pgs"};
+    if (!has_inequalities(base)) solvers.push_back("direct");
+    for (const std::string& solver : solvers) {
+      Breakdown b{scene, solver, solver == "direct" ? 1 : iterations, 0, 0, ""};
+      for (int k = 0; k <= 9; ++k) {
+        const double ratio = std::pow(10.0, k);
+        const SweepPoint p = run_case(with_mass_ratio(base, ratio), scene, solver, iterations, seconds);
+        const bool bad = p.failed || p.error_max > 0.01;
+        if (!bad) {
+          b.survives = ratio;
+          continue;
+        }
+        b.breaks = ratio;
+        b.how = p.failed ? "non-finite or energy" : "error > 1 cm";
+        break;
+      }
+      rows.push_back(b);
+    }
+  }
+  return rows;
+}
+
+void print_sweep_markdown(std::FILE* out, const std::vector<SweepPoint>& points) {
+  std::fprintf(out, "| case | solver | iterations | solve us (median) | position error after (m) | largest during (m) |\n");
+  std::fprintf(out, "|---|---|---|---|---|---|\n");
+  for (const SweepPoint& p : points) {
+    if (p.failed)
+      std::fprintf(out, "| %s | %s | %d | %.1f | failed | failed |\n", p.scene.c_str(), p.solver.c_str(), p.iterations,
+                   p.solve_us);
+    else
+      std::fprintf(out, "| %s | %s | %d | %.1f | %.2e | %.2e |\n", p.scene.c_str(), p.solver.c_str(), p.iterations,
+                   p.solve_us, p.error, p.error_max);
+  }
+}
+
+void print_stability_markdown(std::FILE* out, const std::vector<Breakdown>& rows) {
+  std::fprintf(out, "| case | solver | iterations | holds up to ratio | breaks at | how |\n|---|---|---|---|---|---|\n");
+  for (const Breakdown& b : rows) {
+    std::fprintf(out, "| %s | %s | %d | %s | %s | %s |\n", b.scene.c_str(), b.solver.c_str(), b.iterations,
+                 b.survives > 0 ? std::to_string(static_cast<long long>(b.survives)).c_str() : "none",
+                 b.breaks > 0 ? std::to_string(static_cast<long long>(b.breaks)).c_str() : "> 1e9",
+                 b.how.empty() ? "-" : b.how.c_str());
+  }
+}
+
+nlohmann::json to_json(const std::vector<SweepPoint>& points) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const SweepPoint& p : points)
+    j.push_back({{"scene", p.scene},
+                 {"solver", p.solver},
+                 {"iterations", p.iterations},
+                 {"solve_us", p.solve_us},
+                 {"error", p.failed ? nlohmann::json(nullptr) : nlohmann::json(p.error)},
+                 {"error_max", p.failed ? nlohmann::json(nullptr) : nlohmann::json(p.error_max)},
+                 {"failed", p.failed}});
+  return j;
+}
+
+}  // namespace ldlpgs::cli

@@ -1,0 +1,51 @@
+// ldlpgs sweep: speed against error on the hard cases (apps/sweep.h), as Markdown tables and,
+// with --json FILE, the points papers/plot_speed_vs_error.py draws.
+#include <fstream>
+#include <iostream>
+
+#include "apps/commands.h"
+#include "apps/sweep.h"
+#include "sparse/error.h"
+
+namespace ldlpgs::cli {
+
+Command add_sweep_command(CLI::App& app) {
+  struct Options {
+    std::vector<std::string> cases;
+    std::vector<int> iterations;
+    double seconds = 0;
+    bool full = false, stability = false;
+    std::string json;
+  };
+  auto o = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand("sweep", "Speed against error of pgs, block-gs, ldl-pgs and direct on the hard cases");
+  cmd->add_option("--cases", o->cases, "Scenes (files or built-in names); default: the hard cases")->delimiter(',');
+  cmd->add_option("--iterations", o->iterations, "Iteration counts (default 1,4,16,64; --full: 1,2,4,...,128)")->delimiter(',');
+  cmd->add_option("--seconds", o->seconds, "Simulated time per run (default 1, --full 2)");
+  cmd->add_flag("--full", o->full, "The paper's sweep (papers/speed-vs-error.md)");
+  cmd->add_flag("--stability", o->stability, "Also raise the mass ratio by 10x until each solver breaks");
+  cmd->add_option("--json", o->json, "Write the points to this file");
+  return [o] {
+    const std::vector<std::string> cases = o->cases.empty() ? sweep_cases(o->full) : o->cases;
+    const std::vector<int> iterations = o->iterations.empty() ? sweep_iterations(o->full) : o->iterations;
+    for (int it : iterations)
+      if (it < 1) throw InputError("--iterations: every count must be at least 1");
+    const double seconds = o->seconds > 0 ? o->seconds : (o->full ? 2.0 : 1.0);
+    for (const std::string& c : cases) load_mechanism(c);  // refuse a bad name before the long work
+    const std::vector<SweepPoint> points = speed_vs_error(cases, iterations, seconds, true);
+    std::printf("### Speed against error (%g s simulated per run)\n\n", seconds);
+    print_sweep_markdown(stdout, points);
+    if (o->stability) {
+      std::printf("\n### Mass ratio at which each solver breaks (10 iterations, dt <= 2.5 ms, %g s)\n\n", seconds);
+      print_stability_markdown(stdout, stability(cases, 10, seconds, true));
+    }
+    if (!o->json.empty()) {
+      std::ofstream out(o->json);
+      if (!out) throw InputError(o->json + ": cannot write");
+      out << to_json(points).dump(1) << '\n';
+    }
+    return 0;
+  };
+}
+
+}  // namespace ldlpgs::cli

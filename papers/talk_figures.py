@@ -1,0 +1,113 @@
+#!/usr/bin/env python3
+"""The talk's figures beside ours (papers/talk-figures.md): per mechanism, constraints, dim(H),
+density of H, flops of the block LDL^T and its time, and the spy plots of H and L.
+
+Usage: python3 papers/talk_figures.py [build/bin/ldlpgs]   (prints Markdown to stdout)
+
+For each row: `ldlpgs spy SCENE ARGS --out papers/figures/NAME.json --scene-out S.json` gives
+the counts and the data of the plot (papers/plot_spy.py draws papers/figures/NAME.png), then
+`ldlpgs export S.json` and `ldlpgs bench M.mtx --blocks B --json` time the numeric factorization
+of that H_0 (field ldlpgs_factor_us, a median) and one solve, and `ldlpgs step S.json --solver
+direct --steps 1000 --json` the whole equality solve of a step (field solve_us_median: J, W,
+H = J W J^T, the factorization and the solve). Run it on an idle machine.
+"""
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+
+import plot_spy
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+FIGURES = os.path.join(ROOT, "papers", "figures")
+LDLPGS = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "bin", "ldlpgs")
+
+# (the talk's mechanism, its figures: constraints, dim(H), density, flops, time;
+#  the figure's name, our scene and spy arguments)
+ROWS = [
+    ("a 50-constraint mechanism", ("50", "246", "12%", "90k", "70 us (Core i9)"),
+     "mechanism-50", "mechanism-50", ["--no-shatter"]),
+    ("tracked vehicle", ("40", "200", "7.5%", "43k", "35 us"),
+     "tracked-vehicle", "tracked-vehicle", ["--no-shatter"]),
+    ("multi-wheeled vehicle", ("20", "88", "100%", "250k", "-"),
+     "multi-wheeled-vehicle", "multi-wheeled-vehicle", ["--no-shatter"]),
+    ("the same, shattered", ("29", "142", "17.5%", "35k", "34 us"),
+     "multi-wheeled-vehicle-10-shards", "multi-wheeled-vehicle", ["--shards", "10"]),
+]
+# Ours only: what shatter() chooses by flops (--shatter 20, the default).
+EXTRA = [
+    ("multi-wheeled vehicle, shards chosen by flops", "multi-wheeled-vehicle-shattered", "multi-wheeled-vehicle", []),
+    ("50-constraint mechanism, shards chosen by flops", "mechanism-50-shattered", "mechanism-50", []),
+    ("tracked vehicle, shards chosen by flops", None, "tracked-vehicle", []),
+]
+
+
+def ldlpgs(*args):
+    out = subprocess.run([LDLPGS, *args], capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit(f"ldlpgs {' '.join(args)}: {out.stderr.strip()}")
+    return out.stdout
+
+
+def measure(name, scene, args, tmp):
+    """spy (and its plot), then export + bench of the mechanism it spied."""
+    spy_file = os.path.join(FIGURES, f"{name}.json") if name else os.path.join(tmp, "spy.json")
+    scene_file, mtx, blocks = (os.path.join(tmp, f) for f in ("scene.json", "h.mtx", "h.blocks"))
+    ldlpgs("spy", scene, *args, "--out", spy_file, "--scene-out", scene_file)
+    with open(spy_file) as f:
+        spy = json.load(f)
+    if name:
+        plot_spy.plot(spy, os.path.join(FIGURES, f"{name}.png"))
+    ldlpgs("export", scene_file, "--matrix", mtx, "--blocks", blocks)
+    bench = json.loads(ldlpgs("bench", mtx, "--blocks", blocks, "--json"))
+    assert bench["n"] == spy["dim"] and bench["flops"] == spy["flops"], (bench, spy["flops"])
+    step = json.loads(ldlpgs("step", scene_file, "--solver", "direct", "--steps", "1000", "--json"))
+    return spy, bench, step
+
+
+def cells(spy, bench, step):
+    """Our constraints, dim(H), density, flops, time of the numeric factorization (and of one
+    solve), time of a step's equality solve."""
+    return [str(spy["constraints"]), str(spy["dim"]), f"{100 * spy['density']:.1f}%", f"{spy['flops'] / 1000:.1f}k",
+            f"{bench['ldlpgs_factor_us']:.1f} us ({bench['ldlpgs_solve_us']:.1f} us)",
+            f"{step['solve_us_median']:.1f} us"]
+
+
+def command(scene, args):
+    return "`ldlpgs spy " + " ".join([scene, *args]) + "`"
+
+
+def machine():
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    return f"{cpu}, {os.cpu_count()} cores, load average {load:.2f} when the table was made"
+
+
+def main():
+    os.makedirs(FIGURES, exist_ok=True)
+    print("| mechanism | constraints | dim(H) | density(H) | LDL flops | time | ours: factor (solve) |"
+          " ours: step's solve | our command |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    with tempfile.TemporaryDirectory() as tmp:
+        for label, talk, name, scene, args in ROWS:
+            ours = cells(*measure(name, scene, args, tmp))
+            pairs = [f"{t} / {o}" for t, o in zip(talk[:4], ours[:4])]
+            print(f"| {label} | " + " | ".join(pairs + [talk[4], *ours[4:]]) + f" | {command(scene, args)} |")
+        for label, name, scene, args in EXTRA:
+            spy, bench, step = measure(name, scene, args, tmp)
+            label += "" if spy["shattered"] else " (left whole)"
+            ours = cells(spy, bench, step)
+            pairs = [f"- / {o}" for o in ours[:4]]
+            print(f"| {label} | " + " | ".join(pairs + ["-", *ours[4:]]) + f" | {command(scene, args)} |")
+    print(f"\nMachine: {machine()}.")
+
+
+if __name__ == "__main__":
+    main()
