@@ -17,14 +17,13 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
-#include <optional>
 #include <span>
 #include <vector>
 
 #include "apps/commands.h"
+#include "apps/shatter_args.h"
 #include "factor/symbolic.h"
 #include "physics/scene.h"
-#include "physics/shatter.h"
 #include "physics/step.h"
 #include "sparse/error.h"
 
@@ -34,34 +33,8 @@ namespace {
 
 struct SpyArgs {
   std::string scene, out, ordering = "meca", scene_out;
-  int shatter_threshold = ShatterOptions{}.threshold;
-  int shards = 0;  // 0: shatter() chooses by flops
-  bool no_shatter = false;
+  ShatterArgs shatter;
 };
-
-struct Shattered {
-  Mechanism mechanism;
-  int bodies = 0, welds = 0;  // bodies split, welds added
-};
-
-// Every dynamic body of more constraint rows than the threshold split into `shards` shards,
-// as shatter() splits the bodies it chooses to (physics/shatter.h).
-Shattered shatter_into(const Mechanism& original, int threshold, int shards) {
-  std::vector<int> degree(original.bodies.size(), 0);  // constraint rows per body (size bodies)
-  for (const Constraint& c : original.constraints) {
-    degree[c.body_a] += num_rows(c.type);
-    degree[c.body_b] += num_rows(c.type);
-  }
-  Shattered s{original};
-  // shatter_body keeps a body's index for its first shard and appends the others
-  for (size_t b = 0; b < original.bodies.size(); ++b) {
-    if (original.bodies[b].is_static || degree[b] <= threshold) continue;
-    s.mechanism = shatter_body(s.mechanism, static_cast<int>(b), shards, nullptr);
-    ++s.bodies;
-    s.welds += shards - 1;
-  }
-  return s;
-}
 
 // Stored entries of the full symmetric matrix whose lower triangle `a` holds.
 int64_t full_nnz(const SymmetricCsc& a) {
@@ -73,17 +46,9 @@ int64_t full_nnz(const SymmetricCsc& a) {
 
 int run_spy(const SpyArgs& a) {
   const OrderingInfo& info = find_ordering(a.ordering);  // throws on an unknown name
-  if (!a.no_shatter && a.shatter_threshold < 1) throw InputError("--shatter must be at least 1 (rows)");
-  if (a.shards != 0 && (a.shards < 2 || a.shards > 64)) throw InputError("--shards must be in 2..64");
   const Mechanism original = load_mechanism(a.scene);
-  std::optional<Shattered> shattered;
-  if (a.shards) {
-    shattered = shatter_into(original, a.shatter_threshold, a.shards);
-  } else if (!a.no_shatter) {
-    ShatterResult r = shatter(original, {.threshold = a.shatter_threshold, .ordering = a.ordering});
-    shattered = Shattered{std::move(r.mechanism), r.shattered_bodies, r.welds};
-  }
-  const Mechanism& m = shattered ? shattered->mechanism : original;
+  const ShatterResult shattered = shatter_as_told(original, a.shatter, a.ordering);
+  const Mechanism& m = shattered.mechanism;
   if (!a.scene_out.empty()) save_scene(m, a.scene_out);
 
   std::vector<int> sizes;
@@ -118,10 +83,10 @@ int run_spy(const SpyArgs& a) {
   const double density = static_cast<double>(full_nnz(h)) / (static_cast<double>(h.n) * h.n);
 
   nlohmann::json j = {{"scene", original.name},
-                      {"shattered", shattered && shattered->bodies > 0},
-                      {"shatter_threshold", shattered ? nlohmann::json(a.shatter_threshold) : nlohmann::json(nullptr)},
-                      {"shattered_bodies", shattered ? shattered->bodies : 0},
-                      {"welds", shattered ? shattered->welds : 0},
+                      {"shattered", shattered.shattered_bodies > 0},
+                      {"shatter_threshold", a.shatter.none ? nlohmann::json(nullptr) : nlohmann::json(a.shatter.threshold)},
+                      {"shattered_bodies", shattered.shattered_bodies},
+                      {"welds", shattered.welds},
                       {"bodies", m.bodies.size()},
                       {"constraints", blocks.num_blocks()},
                       {"dim", h.n},
@@ -152,12 +117,7 @@ Command add_spy_command(CLI::App& app) {
   cmd->add_option("scene", a->scene, "Scene file (JSON) or built-in scene name")->required();
   cmd->add_option("--out", a->out, "JSON file to write (papers/plot_spy.py draws it)")->required();
   cmd->add_option("--ordering", a->ordering, "Ordering of H's blocks")->capture_default_str();
-  CLI::Option* threshold = cmd->add_option("--shatter", a->shatter_threshold,
-                                           "Shatter bodies of more constraint rows than this (physics/shatter.h); "
-                                           "the number of shards is chosen by flops")->capture_default_str();
-  CLI::Option* shards = cmd->add_option("--shards", a->shards, "Split each of those bodies into this many shards "
-                                        "instead (2..64)");
-  cmd->add_flag("--no-shatter", a->no_shatter, "Keep the mechanism whole")->excludes(threshold)->excludes(shards);
+  add_shatter_options(cmd, &a->shatter);
   cmd->add_option("--scene-out", a->scene_out, "Also write the mechanism spied (shattered or not) as a scene file");
   return [a] { return run_spy(*a); };
 }

@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "apps/commands.h"
+#include "apps/shatter_args.h"
 #include "physics/scene.h"
 #include "physics/scenes.h"
 #include "physics/step.h"
@@ -34,6 +35,7 @@ struct StepArgs {
   int iterations = 10, steps = 200;
   double timestep = 0, compliance = StepOptions{}.compliance, baumgarte = StepOptions{}.baumgarte;
   bool json = false;
+  ShatterArgs shatter;
 };
 
 StepOptions step_options(const StepArgs& a) {
@@ -60,8 +62,11 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-void write_trace_rows(std::ofstream& out, int step, const Simulation& sim) {
-  for (const RigidBody& b : sim.mechanism().bodies) {
+// The scene's own bodies, each as its shards move (physics/shatter.h: whole_body).
+void write_trace_rows(std::ofstream& out, int step, const Simulation& sim, const Mechanism& original,
+                      const ShatterResult& shattered) {
+  for (size_t i = 0; i < original.bodies.size(); ++i) {
+    const RigidBody b = whole_body(sim.mechanism(), shattered.shards[i], original.bodies[i]);
     const auto& p = b.position;
     const auto& q = b.orientation;
     out << step << ',' << sim.time() << ',' << b.name << ',' << p.x() << ',' << p.y() << ',' << p.z() << ',' << q.w()
@@ -71,11 +76,13 @@ void write_trace_rows(std::ofstream& out, int step, const Simulation& sim) {
 
 int run_step(const StepArgs& a) {
   const StepOptions options = step_options(a);
-  Mechanism m = load_mechanism(a.scene);
+  Mechanism original = load_mechanism(a.scene);
   if (a.timestep != 0) {
     if (!(a.timestep > 0) || !std::isfinite(a.timestep)) throw InputError("--timestep must be positive");
-    m.timestep = a.timestep;
+    original.timestep = a.timestep;
   }
+  const ShatterResult shattered = shatter_as_told(original, a.shatter, a.ordering);
+  Mechanism m = shattered.mechanism;
   if (a.steps < 1) throw InputError("--steps must be at least 1");
   if (options.solver.kind == SolverKind::direct)
     for (const Constraint& c : m.constraints)
@@ -92,7 +99,7 @@ int run_step(const StepArgs& a) {
   const double energy_initial = total_energy(m);
   const ConstraintError error_initial = constraint_error(m);
   Simulation sim(std::move(m), options);
-  if (trace.is_open()) write_trace_rows(trace, 0, sim);
+  if (trace.is_open()) write_trace_rows(trace, 0, sim, original, shattered);
   std::vector<double> solve_us;
   StepReport worst;  // maxima over the steps
   int failed = 0;
@@ -107,7 +114,7 @@ int run_step(const StepArgs& a) {
     worst.error.angular_rms = std::max(worst.error.angular_rms, r.error.angular_rms);
     worst.velocity_residual = std::max(worst.velocity_residual, r.velocity_residual);
     if (!r.result.ok() && failed++ == 0) failure = "step " + std::to_string(s) + ": " + r.result.factor.message();
-    if (trace.is_open()) write_trace_rows(trace, s, sim);
+    if (trace.is_open()) write_trace_rows(trace, s, sim, original, shattered);
   }
   const Mechanism& end = sim.mechanism();
   const double energy_final = total_energy(end);
@@ -117,6 +124,8 @@ int run_step(const StepArgs& a) {
                         {"bodies", end.bodies.size()},
                         {"constraints", end.constraints.size()},
                         {"rows", end.num_rows()},
+                        {"shattered_bodies", shattered.shattered_bodies},
+                        {"welds", shattered.welds},
                         {"steps", a.steps},
                         {"timestep", end.timestep},
                         {"solver", a.solver},
@@ -138,6 +147,9 @@ int run_step(const StepArgs& a) {
     std::printf("%s: %zu bodies, %zu constraints, %d rows; %s, %d iterations, %d steps of %g s\n", end.name.c_str(),
                 end.bodies.size(), end.constraints.size(), end.num_rows(), a.solver.c_str(), a.iterations, a.steps,
                 end.timestep);
+    if (shattered.shattered_bodies)
+      std::printf("shattering            %d split, %d welds added (block LDL^T flops %.0f -> %.0f)\n",
+                  shattered.shattered_bodies, shattered.welds, shattered.flops_before, shattered.flops_after);
     std::printf("solve time per step   median %10.1f us   max %10.1f us\n", median(solve_us), worst.solve_us);
     std::printf("position error        max %12.3e m     (worst step rms %.3e m)\n", worst.error.position_max,
                 worst.error.position_rms);
@@ -166,13 +178,15 @@ Command add_step_command(CLI::App& app) {
   cmd->add_option("--baumgarte", a->baumgarte, "Fraction of the position error corrected per step")->capture_default_str();
   cmd->add_option("--trace", a->trace, "Write per step and body: step,time,body,x,y,z,qw,qx,qy,qz (CSV)");
   cmd->add_flag("--json", a->json, "Print one JSON object");
+  add_shatter_options(cmd, &a->shatter);
   return [a] { return run_step(*a); };
 }
 
 Command add_export_command(CLI::App& app) {
   struct Args {
-    std::string scene, matrix, blocks;
+    std::string scene, matrix, blocks, ordering = "meca";
     double compliance = StepOptions{}.compliance;
+    ShatterArgs shatter;
   };
   auto a = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand("export", "Write H = J W J^T + eps diag(H) of a scene's initial pose and its block sizes");
@@ -180,9 +194,12 @@ Command add_export_command(CLI::App& app) {
   cmd->add_option("--matrix", a->matrix, "Matrix Market file to write (H over the equality constraints)")->required();
   cmd->add_option("--blocks", a->blocks, "File of block sizes to write (one per line, the --blocks format)")->required();
   cmd->add_option("--compliance", a->compliance, "eps of eps diag(H); 0 writes J W J^T itself")->capture_default_str();
+  cmd->add_option("--ordering", a->ordering, "Ordering whose flops choose the shards")->capture_default_str();
+  add_shatter_options(cmd, &a->shatter);
   return [a] {
     if (!(a->compliance >= 0) || !std::isfinite(a->compliance)) throw InputError("--compliance must be finite and >= 0");
-    const Mechanism m = load_mechanism(a->scene);
+    find_ordering(a->ordering);  // throws on an unknown name
+    const Mechanism m = shatter_as_told(load_mechanism(a->scene), a->shatter, a->ordering).mechanism;
     StepOptions options;
     options.compliance = a->compliance;
     std::vector<int> sizes;

@@ -19,7 +19,7 @@ STEPS = "300"
 
 
 def step(scene, *args):
-    out = subprocess.run([LDLPGS, "step", scene, "--steps", STEPS, *args, "--json"], capture_output=True, text=True)
+    out = subprocess.run([LDLPGS, "step", scene, "--no-shatter", "--steps", STEPS, *args, "--json"], capture_output=True, text=True)
     if out.returncode not in (0, 1):
         sys.exit(f"{scene} {' '.join(args)}: {out.stderr.strip()}")
     return json.loads(out.stdout)
@@ -82,7 +82,7 @@ def timestep_table():
     for dt in ["0.01", "0.005", "0.002", "0.001"]:
         cells = []
         for solver in ["direct", "ldl-pgs", "pgs"]:
-            out = subprocess.run([LDLPGS, "step", scene, "--steps", str(round(2 / float(dt))), "--solver", solver,
+            out = subprocess.run([LDLPGS, "step", scene, "--no-shatter", "--steps", str(round(2 / float(dt))), "--solver", solver,
                                   "--timestep", dt, "--json"], capture_output=True, text=True)
             j = json.loads(out.stdout)
             cells.append("blew up" if j["energy_final"] is None else f"{j['position_error_max']:.1e}")

@@ -60,10 +60,10 @@ def measure(name, scene, args, tmp):
         spy = json.load(f)
     if name:
         plot_spy.plot(spy, os.path.join(FIGURES, f"{name}.png"))
-    ldlpgs("export", scene_file, "--matrix", mtx, "--blocks", blocks)
+    ldlpgs("export", scene_file, "--no-shatter", "--matrix", mtx, "--blocks", blocks)
     bench = json.loads(ldlpgs("bench", mtx, "--blocks", blocks, "--json"))
     assert bench["n"] == spy["dim"] and bench["flops"] == spy["flops"], (bench, spy["flops"])
-    step = json.loads(ldlpgs("step", scene_file, "--solver", "direct", "--steps", "1000", "--json"))
+    step = json.loads(ldlpgs("step", scene_file, "--no-shatter", "--solver", "direct", "--steps", "1000", "--json"))
     return spy, bench, step
 
 

@@ -29,7 +29,6 @@ namespace {
 
 // Shard targets the search tries: the degree (rows, welds included) a shard should carry.
 constexpr int kTargetDegrees[] = {6, 10, 15, 20, 30, 40};
-constexpr int kMaxShards = 64;
 constexpr int kWeldRows = 6;
 
 // Rows of all constraints touching each body (size bodies).
@@ -166,7 +165,30 @@ Mechanism shatter_body(const Mechanism& mechanism, int body, int k, std::vector<
   return m;
 }
 
+namespace {
+
+// Each candidate body split into its k_of shards (1: left whole).
+ShatterResult shatter_each(const Mechanism& mechanism, const std::vector<int>& candidates, const std::vector<int>& k_of) {
+  const int n = static_cast<int>(mechanism.bodies.size());
+  ShatterResult r;
+  r.mechanism = mechanism;
+  r.shards.resize(n);
+  for (int b = 0; b < n; ++b) r.shards[b] = {b};
+  // One body at a time: each keeps its index for its first shard and appends the others, so
+  // the indices of the bodies still to shatter stay valid.
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    if (k_of[i] < 2) continue;
+    r.mechanism = shatter_body(r.mechanism, candidates[i], k_of[i], &r.shards[candidates[i]]);
+    ++r.shattered_bodies;
+    r.welds += k_of[i] - 1;
+  }
+  return r;
+}
+
+}  // namespace
+
 ShatterResult shatter(const Mechanism& mechanism, const ShatterOptions& options) {
+  assert(options.shards == 0 || (options.shards >= 2 && options.shards <= kMaxShards));
   const OrderingInfo& info = find_ordering(options.ordering);
   const int n = static_cast<int>(mechanism.bodies.size());
   const std::vector<int> degree = body_degrees(mechanism);
@@ -174,13 +196,17 @@ ShatterResult shatter(const Mechanism& mechanism, const ShatterOptions& options)
   for (int b = 0; b < n; ++b)
     if (!mechanism.bodies[b].is_static && degree[b] > options.threshold) candidates.push_back(b);
 
-  ShatterResult best;
-  best.mechanism = mechanism;
-  best.shards.resize(n);
-  for (int b = 0; b < n; ++b) best.shards[b] = {b};
-  best.flops_before = best.flops_after = equality_flops(mechanism, info);
-  best.tried.emplace_back(0, best.flops_before);
-
+  const double flops_before = equality_flops(mechanism, info);
+  if (options.shards) {
+    ShatterResult r = shatter_each(mechanism, candidates, std::vector<int>(candidates.size(), options.shards));
+    r.flops_before = flops_before;
+    r.flops_after = equality_flops(r.mechanism, info);
+    r.tried = {{0, flops_before}, {-options.shards, r.flops_after}};
+    return r;
+  }
+  ShatterResult best = shatter_each(mechanism, {}, {});
+  best.flops_before = best.flops_after = flops_before;
+  best.tried.emplace_back(0, flops_before);
   for (int t : kTargetDegrees) {
     std::vector<int> k_of(candidates.size());  // shards per candidate (size candidates)
     bool any = false;
@@ -189,23 +215,12 @@ ShatterResult shatter(const Mechanism& mechanism, const ShatterOptions& options)
       any = any || k_of[i] >= 2;
     }
     if (!any) continue;
-    ShatterResult r;
-    r.mechanism = mechanism;
-    r.shards.resize(n);
-    for (int b = 0; b < n; ++b) r.shards[b] = {b};
-    // Shatter one body at a time: each keeps its index for its first shard and appends the
-    // others, so the indices of the bodies still to shatter stay valid.
-    for (size_t i = 0; i < candidates.size(); ++i) {
-      if (k_of[i] < 2) continue;
-      r.mechanism = shatter_body(r.mechanism, candidates[i], k_of[i], &r.shards[candidates[i]]);
-      ++r.shattered_bodies;
-      r.welds += k_of[i] - 1;
-    }
+    ShatterResult r = shatter_each(mechanism, candidates, k_of);
     const double flops = equality_flops(r.mechanism, info);
     best.tried.emplace_back(t, flops);
     if (flops < best.flops_after) {
       r.tried = std::move(best.tried);
-      r.flops_before = best.flops_before;
+      r.flops_before = flops_before;
       r.flops_after = flops;
       best = std::move(r);
     }

@@ -17,7 +17,10 @@ namespace ldlpgs {
 struct ShatterOptions {
   int threshold = 20;             // candidates: total constraint degree (rows) above this
   std::string ordering = "meca";  // the ordering whose block flops choose k
+  int shards = 0;                 // 0: k chosen by flops; 2..kMaxShards: every candidate in k shards
 };
+
+inline constexpr int kMaxShards = 64;
 
 struct ShatterResult {
   Mechanism mechanism;                    // shattered (a copy of the input if nothing was)
@@ -27,7 +30,8 @@ struct ShatterResult {
   int shattered_bodies = 0;               // bodies split
   int welds = 0;                          // weld constraints added
   double flops_before = 0, flops_after = 0;  // block LDL^T flops of H_0, unshattered and chosen
-  // Every candidate tried: shard degree target (0 = not shattered) and its flops.
+  // Every candidate tried: shard degree target (0 = not shattered; -k: options.shards = k) and
+  // its flops.
   std::vector<std::pair<int, double>> tried;
 };
 
@@ -37,7 +41,8 @@ struct ShatterResult {
 Mechanism shatter_body(const Mechanism& mechanism, int body, int k, std::vector<int>* shard_indices);
 
 // Shatters every body whose degree exceeds the threshold into ceil(degree / t) shards, for the
-// target degree t among several candidates (and no shattering) that gives the fewest flops.
+// target degree t among several candidates (and no shattering) that gives the fewest flops; or,
+// with options.shards = k, into k shards each.
 ShatterResult shatter(const Mechanism& mechanism, const ShatterOptions& options = {});
 
 // The original body as its shards move: centre of mass and momentum of the shards, orientation

@@ -462,7 +462,7 @@ TEST(LdlpgsSpy, ShatteringTheMultiWheeledVehicle) {
 TEST(LdlpgsSpy, SceneOutIsTheMechanismSpied) {
   const std::string scene = temp_path("shattered.json"), mtx = temp_path("s.mtx"), blocks = temp_path("s.blocks");
   const nlohmann::json j = spy_test::spy("multi-wheeled-vehicle --shards 10 --scene-out " + scene);
-  const Result r = run("export " + scene + " --matrix " + mtx + " --blocks " + blocks);
+  const Result r = run("export " + scene + " --no-shatter --matrix " + mtx + " --blocks " + blocks);
   ASSERT_EQ(r.code, 0) << r.err;
   const SymmetricCsc a = read_matrix_market(mtx);
   EXPECT_EQ(a.n, j["dim"].get<int>());
@@ -470,6 +470,68 @@ TEST(LdlpgsSpy, SceneOutIsTheMechanismSpied) {
   const Result help = run("spy --help");
   EXPECT_EQ(help.code, 0);
   EXPECT_NE(help.out.find("--no-shatter"), std::string::npos);
+}
+
+// Shattering is on by default in step and export too (apps/shatter_args.h).
+
+// The trace names the scene's own bodies, shattered or not, and they move alike: the shards'
+// whole_body against the whole body, 0.2 s of direct steps. Bound: 1e-4 m, what
+// tests/shatter_test.cpp measures and bounds for this vehicle over a whole second (6.5e-5 m).
+TEST(LdlpgsStep, ShatteredSceneTracesTheScenesBodies) {
+  const std::string whole = temp_path("whole.csv"), shattered = temp_path("shattered.csv");
+  const Result a = run("step multi-wheeled-vehicle --solver direct --steps 20 --no-shatter --trace " + whole + " --json");
+  const Result b = run("step multi-wheeled-vehicle --solver direct --steps 20 --trace " + shattered + " --json");
+  ASSERT_EQ(a.code, 0) << a.err;
+  ASSERT_EQ(b.code, 0) << b.err;
+  const nlohmann::json ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out);
+  EXPECT_EQ(ja["shattered_bodies"], 0);
+  EXPECT_EQ(jb["shattered_bodies"], 1);  // the chassis
+  EXPECT_EQ(jb["bodies"].get<int>(), 21 + jb["welds"].get<int>());
+  std::ifstream ta(whole), tb(shattered);
+  std::string la, lb;
+  int rows = 0;
+  double largest = 0;
+  while (std::getline(ta, la)) {
+    ASSERT_TRUE(std::getline(tb, lb)) << "the shattered trace is shorter";
+    if (rows++ == 0) continue;  // header
+    std::vector<std::string> fa, fb;
+    std::stringstream sa(la), sb(lb);
+    for (std::string f; std::getline(sa, f, ',');) fa.push_back(f);
+    for (std::string f; std::getline(sb, f, ',');) fb.push_back(f);
+    ASSERT_EQ(fa.size(), 10u);
+    ASSERT_EQ(fb.size(), 10u);
+    EXPECT_EQ(fa[2], fb[2]);  // the same body
+    for (int x = 3; x < 6; ++x) largest = std::max(largest, std::abs(std::stod(fa[x]) - std::stod(fb[x])));
+  }
+  EXPECT_FALSE(std::getline(tb, lb)) << "the shattered trace is longer";
+  EXPECT_EQ(rows, 1 + 21 * 21);  // steps 0..20, the scene's 21 bodies
+  std::printf("largest coordinate difference of a body, shattered against whole, 20 steps: %.3e m\n", largest);
+  EXPECT_LT(largest, 1e-4);
+}
+
+// export writes the H that step factors: shattered by default, the talk's 142 with --shards 10,
+// the dense 88 x 88 with --no-shatter; each verifies against CHOLMOD.
+TEST(LdlpgsExport, ShatterOptions) {
+  const std::string mtx = temp_path("h.mtx"), blocks = temp_path("h.blocks");
+  for (auto [options, dim] : std::vector<std::pair<std::string, int>>{{"--no-shatter", 88}, {"--shards 10", 142}, {"", -1}}) {
+    const Result r = run("export multi-wheeled-vehicle " + options + " --matrix " + mtx + " --blocks " + blocks);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const SymmetricCsc h = read_matrix_market(mtx);
+    const std::vector<int> sizes = read_partition(blocks, h.n);
+    if (dim > 0) EXPECT_EQ(h.n, dim) << options;
+    else EXPECT_EQ(h.n, 88 + 6 * (static_cast<int>(sizes.size()) - 20)) << "default: 20 constraints and welds";
+    const Result v = run("verify " + mtx + " --blocks " + blocks + " --json");
+    ASSERT_EQ(v.code, 0) << v.err << v.out;
+    EXPECT_TRUE(nlohmann::json::parse(v.out)["ok"].get<bool>()) << options;
+  }
+}
+
+TEST(LdlpgsBadInput, StepShardsOutOfRange) {
+  expect_input_error("step multi-wheeled-vehicle --shards 65", {"--shards", "2..64"});
+}
+
+TEST(LdlpgsBadInput, ExportShatterThresholdBelowOne) {
+  expect_input_error("export mechanism-50 --shatter 0 --matrix x.mtx --blocks x.blocks", {"--shatter"});
 }
 
 TEST(LdlpgsBadInput, SpyUnknownScene) { expect_input_error("spy no-such-scene --out x.json", {"no-such-scene"}); }
