@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # ./build.sh test    install missing Debian packages, build into build/, run ctest
-# ./build.sh report  the same set-up, then the main job: build/bin/ldlpgs report
+# ./build.sh report  the same set-up (and python3-matplotlib, python3-markdown for the figures), then
+#                    the main job: build/bin/ldlpgs report (writes report/index.md and index.html)
 # ./build.sh build   set-up and build only
 # Environment: BUILD_DIR (default build), SANITIZE=1 (AddressSanitizer + UBSan build),
 #              JOBS (default: number of cores).
@@ -43,6 +44,8 @@ case "$cmd" in
     ctest --test-dir "${BUILD_DIR:-build}" --output-on-failure -j "${JOBS:-$(nproc)}" "$@"
     ;;
   report)
+    # the report's plots and index.html: Debian's matplotlib and markdown (papers/*.py)
+    install_missing python3 python3-matplotlib python3-markdown
     build
     "${BUILD_DIR:-build}/bin/ldlpgs" report "$@"
     ;;

@@ -1,45 +1,146 @@
-// ldlpgs report: the main job. For now, the orderings comparison on the generated mechanism
-// families and on the test matrices (papers/orderings.md is its --markdown output), then the
-// block LDL^T of each of them verified against CHOLMOD's (factor/verify.h).
+// ldlpgs report: the main job. On the generated mechanism families, the test matrices and the
+// built-in scenes, in five stages:
+//   1. the orderings comparison (papers/orderings.md),
+//   2. the block LDL^T of every problem verified against CHOLMOD's (factor/verify.h),
+//   3. the talk's table and spy plots (papers/talk_figures.py, papers/talk-figures.md),
+//   4. speed against error of the solvers on the hard cases, and where each breaks
+//      (apps/sweep.h, papers/speed-vs-error.md),
+//   5. the figures (matplotlib) and index.html (python3-markdown).
+// It writes a directory (report/ by default) holding index.md, index.html, the figures and the
+// data they are drawn from; the orderings tables go to standard output as well, and a progress
+// line per stage and problem to standard error. Exit code 1 if a factorization disagrees with
+// CHOLMOD's or a stage fails, 2 for bad input.
 #include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <memory>
+#include <thread>
 
 #include "apps/commands.h"
 #include "apps/compare.h"
+#include "apps/sweep.h"
 #include "sparse/error.h"
 #include "sparse/families.h"
 
 namespace ldlpgs::cli {
 
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kStages = 5;
+
+void progress(int stage, const std::string& what) { std::fprintf(stderr, "report [%d/%d] %s\n", stage, kStages, what.c_str()); }
+
+std::string quoted(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// The python that has Debian's matplotlib and markdown (the scripts re-run themselves under
+// /usr/bin/python3 too, but asking first lets the report say what is missing).
+std::string find_python() {
+  for (const char* python : {"/usr/bin/python3", "python3"}) {
+    const std::string probe = std::string(python) + " -c 'import matplotlib, markdown' >/dev/null 2>&1";
+    if (std::system(probe.c_str()) == 0) return python;
+  }
+  return "";
+}
+
+// Runs a papers/ script; its standard output to `stdout_file` when given.
+bool run_script(const std::string& python, const std::string& script, const std::string& args,
+                const std::string& stdout_file = "") {
+  std::string cmd = python + " " + quoted(std::string(LDLPGS_SOURCE_DIR "/papers/") + script) + " " + args;
+  if (!stdout_file.empty()) cmd += " > " + quoted(stdout_file);
+  const int rc = std::system(cmd.c_str());
+  if (rc != 0) std::fprintf(stderr, "report: papers/%s failed (exit status %d)\n", script.c_str(), rc);
+  return rc == 0;
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+std::string machine() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  std::string line, cpu = "unknown CPU";
+  while (std::getline(cpuinfo, line))
+    if (line.rfind("model name", 0) == 0) {
+      cpu = line.substr(line.find(':') + 2);
+      break;
+    }
+  double load[1] = {0};
+  std::ifstream("/proc/loadavg") >> load[0];
+  char text[256];
+  std::snprintf(text, sizeof text, "%s, %u hardware threads, load average %.2f at the start", cpu.c_str(),
+                std::thread::hardware_concurrency(), load[0]);
+  return text;
+}
+
+}  // namespace
+
 Command add_report_command(CLI::App& app) {
   struct Options {
-    std::string matrices = LDLPGS_SOURCE_DIR "/tests/data/matrices", orderings = "all";
+    std::string matrices = LDLPGS_SOURCE_DIR "/tests/data/matrices", orderings = "all", out = "report";
     std::vector<int> sizes = {100, 1000, 5000};
     std::string verify = "meca";
-    bool markdown = false, cholmod = false;
+    bool markdown = false, cholmod = false, full = false, no_figures = false;
   };
   auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand("report", "The orderings comparison on mechanism families and test matrices");
+  CLI::App* cmd = app.add_subcommand("report", "The main job: orderings, CHOLMOD verification, the talk's table, "
+                                                "speed against error; writes a report directory");
   cmd->add_option("--matrices", o->matrices, "Directory of Matrix Market files")->capture_default_str();
   cmd->add_option("--sizes", o->sizes, "Constraint counts of the generated mechanisms")->capture_default_str()
       ->delimiter(',');
   cmd->add_option("--orderings", o->orderings, "Comma-separated ordering names, or all")->capture_default_str();
-  cmd->add_flag("--markdown", o->markdown, "Markdown tables (papers/orderings.md)");
+  cmd->add_flag("--markdown", o->markdown, "Markdown tables on standard output (papers/orderings.md)");
   cmd->add_flag("--cholmod", o->cholmod, "Add CHOLMOD's counts for each permutation");
   cmd->add_option("--verify", o->verify, "Ordering of the factorizations verified against CHOLMOD")->capture_default_str();
+  cmd->add_option("--out", o->out, "Report directory to write")->capture_default_str();
+  cmd->add_flag("--full", o->full, "The paper's speed-against-error sweep (papers/speed-vs-error.md) instead of the quick one");
+  cmd->add_flag("--no-figures", o->no_figures, "Skip the stages that need python3 (talk's table, plots, index.html)");
   return [o] {
+    const auto start = std::chrono::steady_clock::now();
     const std::vector<std::string> names = parse_ordering_list(o->orderings);
+    const OrderingInfo& verify_ordering = find_ordering(o->verify);
     std::vector<std::string> files;
     std::error_code ec;
-    for (const auto& entry : std::filesystem::directory_iterator(o->matrices, ec)) {
+    for (const auto& entry : fs::directory_iterator(o->matrices, ec)) {
       if (entry.path().extension() == ".mtx") files.push_back(entry.path().string());
     }
     if (ec) throw InputError(o->matrices + ": cannot read directory (" + ec.message() + ")");
     std::sort(files.begin(), files.end());
-    // Text: one table per problem. Markdown: one table per metric, a row per problem, the
-    // best of each row marked (papers/orderings.md).
+    fs::create_directories(fs::path(o->out) / "figures", ec);
+    if (ec) throw InputError(o->out + ": cannot create the report directory (" + ec.message() + ")");
+    const std::string out_dir = fs::absolute(o->out).string(), figures = out_dir + "/figures";
+    const std::string index_path = out_dir + "/index.md";
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> index(std::fopen(index_path.c_str(), "w"), std::fclose);
+    if (!index) throw InputError(index_path + ": cannot write");
+    std::FILE* md = index.get();
+    bool ok = true;
+
+    const std::time_t now = std::time(nullptr);
+    char date[64];
+    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+    std::fprintf(md, "# ldlpgs report\n\nMade by `./build.sh report` (`build/bin/ldlpgs report%s%s`) on %s.\n"
+                 "Machine: %s.\n\n",
+                 o->full ? " --full" : "", o->out == "report" ? "" : (" --out " + o->out).c_str(), date, machine().c_str());
+    std::fprintf(md, "1. [Orderings](#1-orderings): fill and flops of MDA and MECA against AMD and METIS\n"
+                 "2. [The block LDL^T against CHOLMOD](#2-the-block-ldlt-against-cholmod)\n"
+                 "3. [The talk's figures](#3-the-talks-figures)\n"
+                 "4. [Speed against error](#4-speed-against-error)\n"
+                 "5. [Where each solver breaks](#5-where-each-solver-breaks)\n\n");
+
+    // 1. Orderings. Text: one table per problem on stdout. Markdown: one table per metric.
+    progress(1, "orderings on the mechanism families and " + std::to_string(files.size()) + " matrices");
     std::vector<std::pair<Problem, std::vector<Row>>> results;
+    std::vector<std::string> skipped;
     auto show = [&](Problem p) {
       std::vector<Row> rows = compare(p, names, o->cholmod);
       if (!o->markdown) {
@@ -65,11 +166,20 @@ Command add_report_command(CLI::App& app) {
       } catch (const InputError& e) {
         // An unsymmetric matrix has no LDL^T: the comparison skips it and says why.
         std::printf("%sskipped: %s\n", o->markdown ? "\n" : "", e.what());
+        skipped.push_back(e.what());
       }
     }
     if (o->markdown) print_markdown_by_metric(stdout, results);
-    // The factorization of every problem, in the ordering o->verify, against CHOLMOD's.
-    const OrderingInfo& verify_ordering = find_ordering(o->verify);
+    std::fprintf(md, "## 1. Orderings\n\nThe generated mechanism families at %zu sizes and the matrices of `%s`, "
+                 "every ordering; scalar counts as CHOLMOD defines them, block flops the talk's cost model "
+                 "(papers/orderings.md explains the columns). One problem in detail: "
+                 "`build/bin/ldlpgs order PROBLEM --cholmod`.\n",
+                 o->sizes.size(), o->matrices.c_str());
+    print_markdown_by_metric(md, results);
+    for (const std::string& s : skipped) std::fprintf(md, "\nSkipped: %s\n", s.c_str());
+
+    // 2. The factorization of every problem, in the ordering o->verify, against CHOLMOD's.
+    progress(2, "the block LDL^T of every problem against CHOLMOD");
     std::vector<std::pair<std::string, Verification>> checks;
     for (const auto& [p, rows] : results) {
       std::fprintf(stderr, "report: verifying %s\n", p.name.c_str());
@@ -79,7 +189,80 @@ Command add_report_command(CLI::App& app) {
     print_verification_table(stdout, checks, o->markdown);
     const bool all_agree = std::all_of(checks.begin(), checks.end(), [](const auto& c) { return c.second.ok; });
     if (!all_agree) std::printf("DISAGREEMENT: see the rows marked no (tolerances in factor/verify.h)\n");
-    return all_agree ? 0 : 1;
+    ok = ok && all_agree;
+    std::fprintf(md, "\n## 2. The block LDL^T against CHOLMOD\n\nOrdering %s; L, D and x against CHOLMOD's simplicial "
+                 "LDL^T on the same permutation, tolerance max(1e-10, eps cond_1) (factor/verify.h); one row in "
+                 "detail: `build/bin/ldlpgs verify PROBLEM`. %s\n\n",
+                 o->verify.c_str(), all_agree ? "All agree." : "**Some disagree: the rows marked no.**");
+    print_verification_table(md, checks, true);
+
+    // 3. The talk's table (papers/talk_figures.py runs spy, export, bench and step of this program).
+    const std::string python = o->no_figures ? "" : find_python();
+    if (python.empty() && !o->no_figures)
+      std::fprintf(stderr, "report: python3 with matplotlib and markdown not found (Debian's python3-matplotlib and "
+                           "python3-markdown; ./build.sh report installs them): the talk's table, the plots and "
+                           "index.html are skipped\n");
+    std::fprintf(md, "\n## 3. The talk's figures\n\n");
+    progress(3, "the talk's table and spy plots");
+    if (python.empty()) {
+      std::fprintf(md, "Skipped: no python3 with matplotlib.\n");
+    } else {
+      const std::string self = fs::read_symlink("/proc/self/exe").string(), table = out_dir + "/talk-table.md";
+      if (run_script(python, "talk_figures.py", quoted(self) + " --figures " + quoted(figures), table)) {
+        std::fprintf(md, "Per mechanism, the talk's figure / ours (papers/talk-figures.md says how each is measured "
+                     "and why they differ); made by `python3 papers/talk_figures.py build/bin/ldlpgs --figures "
+                     "%s/figures`.\n\n%s\n",
+                     o->out.c_str(), read_file(table).c_str());
+        std::fprintf(stdout, "\nThe talk's figures / ours:\n%s", read_file(table).c_str());
+        for (const char* name : {"mechanism-50", "mechanism-50-shattered", "tracked-vehicle", "multi-wheeled-vehicle",
+                                 "multi-wheeled-vehicle-10-shards", "multi-wheeled-vehicle-shattered"})
+          std::fprintf(md, "![%s](figures/%s.png)\n\n", name, name);
+      } else {
+        ok = false;
+        std::fprintf(md, "Failed: papers/talk_figures.py (its message is on standard error).\n");
+      }
+    }
+
+    // 4. and 5. Speed against error, and the mass ratio at which each solver breaks.
+    progress(4, std::string("speed against error (") + (o->full ? "full" : "quick") + ") and stability");
+    const std::vector<std::string> cases = sweep_cases(o->full);
+    const double seconds = o->full ? 2.0 : 1.0;
+    const std::vector<SweepPoint> points = speed_vs_error(cases, sweep_iterations(o->full), seconds, true);
+    const std::string sweep_json = out_dir + "/sweep.json";
+    std::ofstream(sweep_json) << to_json(points).dump(1) << '\n';
+    std::fprintf(md, "\n## 4. Speed against error\n\nEach hard case stepped for %g s of simulated time with pgs, "
+                 "block-gs and ldl-pgs at several iteration counts, and direct (equality-only scenes); the median "
+                 "solve time per step against the largest position error at the end (papers/speed-vs-error.md "
+                 "reads the full version). Made by `build/bin/ldlpgs sweep%s --json %s/sweep.json`.\n\n",
+                 seconds, o->full ? " --full" : "", o->out.c_str());
+    print_sweep_summary(md, points);
+    std::printf("\nSpeed against error, %g s simulated (best error reached; fastest run within 1 mm):\n", seconds);
+    print_sweep_summary(stdout, points);
+    if (!python.empty()) {
+      if (run_script(python, "plot_speed_vs_error.py", quoted(sweep_json) + " " + quoted(figures))) {
+        for (const std::string& c : cases) std::fprintf(md, "\n![%s](figures/speed-vs-error-%s.png)\n", c.c_str(), c.c_str());
+      } else {
+        ok = false;
+      }
+    }
+    std::fprintf(md, "\n### Every run\n\n");
+    print_sweep_markdown(md, points);
+
+    progress(5, "where each solver breaks, the figures and index.html");
+    const std::vector<Breakdown> breaks = stability(cases, 10, seconds, true);
+    std::fprintf(md, "\n## 5. Where each solver breaks\n\nThe heaviest body of each case made 10, 100, ... times "
+                 "heavier (mass and inertia) until the run fails: a non-finite state, a position error above 1 cm, "
+                 "or an energy blow-up; 10 iterations, dt <= 2.5 ms, %g s. Made by `build/bin/ldlpgs sweep%s "
+                 "--stability`.\n\n",
+                 seconds, o->full ? " --full" : "");
+    print_stability_markdown(md, breaks);
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(md, "\nThe report took %.0f s.\n", elapsed);
+    index.reset();
+    if (!python.empty()) ok = run_script(python, "render_html.py", quoted(index_path) + " " + quoted(out_dir + "/index.html")) && ok;
+    std::printf("\nReport: %s%s (%.0f s)\n", index_path.c_str(), python.empty() ? "" : (", " + out_dir + "/index.html").c_str(),
+                elapsed);
+    return ok ? 0 : 1;
   };
 }
 

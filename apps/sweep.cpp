@@ -132,6 +132,41 @@ void print_sweep_markdown(std::FILE* out, const std::vector<SweepPoint>& points)
   }
 }
 
+void print_sweep_summary(std::FILE* out, const std::vector<SweepPoint>& points) {
+  const char* solvers[] = {"pgs", "block-gs", "ldl-pgs", "direct"};
+  std::fprintf(out, "| case |");
+  for (const char* s : solvers) std::fprintf(out, " %s: best error (m) at us | %s: fastest to 1 mm |", s, s);
+  std::fprintf(out, "\n|---|");
+  for (size_t i = 0; i < std::size(solvers); ++i) std::fprintf(out, "---|---|");
+  std::fprintf(out, "\n");
+  std::vector<std::string> cases;
+  for (const SweepPoint& p : points)
+    if (std::find(cases.begin(), cases.end(), p.scene) == cases.end()) cases.push_back(p.scene);
+  for (const std::string& c : cases) {
+    std::fprintf(out, "| %s |", c.c_str());
+    for (const char* s : solvers) {
+      const SweepPoint *best = nullptr, *fastest = nullptr;
+      bool ran = false;
+      for (const SweepPoint& p : points) {
+        if (p.scene != c || p.solver != s) continue;
+        ran = true;
+        if (p.failed) continue;
+        if (!best || p.error < best->error) best = &p;
+        if (p.error <= 1e-3 && (!fastest || p.solve_us < fastest->solve_us)) fastest = &p;
+      }
+      if (!ran) {
+        std::fprintf(out, " | |");
+        continue;
+      }
+      if (best) std::fprintf(out, " %.1e at %.1f |", best->error, best->solve_us);
+      else std::fprintf(out, " failed |");
+      if (fastest) std::fprintf(out, " %.1f us (%d it.) |", fastest->solve_us, fastest->iterations);
+      else std::fprintf(out, " - |");
+    }
+    std::fprintf(out, "\n");
+  }
+}
+
 void print_stability_markdown(std::FILE* out, const std::vector<Breakdown>& rows) {
   std::fprintf(out, "| case | solver | iterations | holds up to ratio | breaks at | how |\n|---|---|---|---|---|---|\n");
   for (const Breakdown& b : rows) {

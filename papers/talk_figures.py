@@ -2,7 +2,8 @@
 """The talk's figures beside ours (papers/talk-figures.md): per mechanism, constraints, dim(H),
 density of H, flops of the block LDL^T and its time, and the spy plots of H and L.
 
-Usage: python3 papers/talk_figures.py [build/bin/ldlpgs]   (prints Markdown to stdout)
+Usage: python3 papers/talk_figures.py [build/bin/ldlpgs] [--figures DIR]   (prints Markdown to stdout)
+DIR (default papers/figures) receives the spy files and plots; `ldlpgs report` gives its own.
 
 For each row: `ldlpgs spy SCENE ARGS --out papers/figures/NAME.json --scene-out S.json` gives
 the counts and the data of the plot (papers/plot_spy.py draws papers/figures/NAME.png), then
@@ -11,6 +12,7 @@ of that H_0 (field ldlpgs_factor_us, a median) and one solve, and `ldlpgs step S
 direct --steps 1000 --json` the whole equality solve of a step (field solve_us_median: J, W,
 H = J W J^T, the factorization and the solve). Run it on an idle machine.
 """
+import argparse
 import json
 import os
 import platform
@@ -22,7 +24,7 @@ import plot_spy
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FIGURES = os.path.join(ROOT, "papers", "figures")
-LDLPGS = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "bin", "ldlpgs")
+LDLPGS = os.path.join(ROOT, "build", "bin", "ldlpgs")
 
 # (the talk's mechanism, its figures: constraints, dim(H), density, flops, time;
 #  the figure's name, our scene and spy arguments)
@@ -91,6 +93,12 @@ def machine():
 
 
 def main():
+    global FIGURES, LDLPGS
+    parser = argparse.ArgumentParser(description="The talk's figures beside ours (papers/talk-figures.md)")
+    parser.add_argument("ldlpgs", nargs="?", default=LDLPGS)
+    parser.add_argument("--figures", default=FIGURES)
+    args = parser.parse_args()
+    FIGURES, LDLPGS = args.figures, args.ldlpgs
     os.makedirs(FIGURES, exist_ok=True)
     print("| mechanism | constraints | dim(H) | density(H) | LDL flops | time | ours: factor (solve) |"
           " ours: step's solve | our command |")

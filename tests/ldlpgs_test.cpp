@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -110,7 +111,7 @@ TEST(LdlpgsOrder, TablePrintsEveryOrdering) {
 }
 
 TEST(LdlpgsOrder, HelpOnEverySubcommand) {
-  for (const char* sub : {"", "order", "report", "verify", "bench", "step", "export"}) {
+  for (const char* sub : {"", "order", "report", "verify", "bench", "step", "export", "spy", "sweep"}) {
     const Result r = run(std::string(sub) + " --help");
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
@@ -518,8 +519,11 @@ TEST(LdlpgsExport, ShatterOptions) {
     ASSERT_EQ(r.code, 0) << r.err;
     const SymmetricCsc h = read_matrix_market(mtx);
     const std::vector<int> sizes = read_partition(blocks, h.n);
-    if (dim > 0) EXPECT_EQ(h.n, dim) << options;
-    else EXPECT_EQ(h.n, 88 + 6 * (static_cast<int>(sizes.size()) - 20)) << "default: 20 constraints and welds";
+    if (dim > 0) {
+      EXPECT_EQ(h.n, dim) << options;
+    } else {
+      EXPECT_EQ(h.n, 88 + 6 * (static_cast<int>(sizes.size()) - 20)) << "default: 20 constraints and welds";
+    }
     const Result v = run("verify " + mtx + " --blocks " + blocks + " --json");
     ASSERT_EQ(v.code, 0) << v.err << v.out;
     EXPECT_TRUE(nlohmann::json::parse(v.out)["ok"].get<bool>()) << options;
@@ -532,6 +536,86 @@ TEST(LdlpgsBadInput, StepShardsOutOfRange) {
 
 TEST(LdlpgsBadInput, ExportShatterThresholdBelowOne) {
   expect_input_error("export mechanism-50 --shatter 0 --matrix x.mtx --blocks x.blocks", {"--shatter"});
+}
+
+// ---- sweep and report ----
+
+nlohmann::json sweep_points(const std::string& args) {
+  const std::string file = temp_path("sweep.json");
+  const Result r = run("sweep " + args + " --json " + file);
+  EXPECT_EQ(r.code, 0) << r.err;
+  std::ifstream in(file);
+  return nlohmann::json::parse(in);
+}
+
+const nlohmann::json& point(const nlohmann::json& points, const std::string& solver, int iterations) {
+  for (const auto& p : points)
+    if (p["solver"] == solver && p["iterations"] == iterations) return p;
+  ADD_FAILURE() << solver << " " << iterations << " not in the sweep";
+  return points[0];
+}
+
+// The sweep's runs are the step command's: the same scene, solver and steps (1 s of 10 ms steps)
+// give the same largest error, and the sweep calls a run failed exactly when the step command's
+// energy grew by more than its size (one PGS sweep a step pumps energy into the chain: -245 J to
+// 8114 J). More PGS sweeps bring the error down.
+TEST(LdlpgsSweep, PointsAreTheStepCommandsRuns) {
+  const nlohmann::json points = sweep_points("--cases chain-10 --iterations 1,64");
+  ASSERT_EQ(points.size(), 7u);  // pgs, block-gs, ldl-pgs at two counts, direct
+  for (const auto& p : points) {
+    const std::string solver = p["solver"].get<std::string>(), iterations = std::to_string(p["iterations"].get<int>());
+    const Result r = run("step chain-10 --no-shatter --steps 100 --json --solver " + solver + " --iterations " + iterations);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    const double e0 = j["energy_initial"].get<double>(), e1 = j["energy_final"].get<double>();
+    EXPECT_EQ(p["failed"].get<bool>(), e1 - e0 > std::max(1.0, std::abs(e0))) << solver << " " << iterations;
+    if (!p["failed"].get<bool>()) {
+      EXPECT_DOUBLE_EQ(p["error_max"].get<double>(), j["position_error_max"].get<double>()) << solver << " " << iterations;
+    }
+  }
+  EXPECT_TRUE(point(points, "pgs", 1)["failed"].get<bool>());
+  EXPECT_LT(point(points, "pgs", 64)["error"].get<double>(), 1e-6);
+  EXPECT_LT(point(points, "ldl-pgs", 1)["error"].get<double>(), 1e-6);
+}
+
+// A 1:1000 load tears a PGS chain apart at 4 sweeps (energy blow-up: the sweep marks it failed)
+// and LDL-PGS holds it at one; raising the ratio breaks PGS first.
+TEST(LdlpgsSweep, FailuresAndStability) {
+  const nlohmann::json points = sweep_points("--cases heavy-chain-10-1000 --iterations 1,4");
+  EXPECT_TRUE(point(points, "pgs", 4)["failed"].get<bool>());
+  EXPECT_TRUE(point(points, "pgs", 4)["error"].is_null());
+  EXPECT_FALSE(point(points, "ldl-pgs", 1)["failed"].get<bool>());
+  EXPECT_LT(point(points, "ldl-pgs", 1)["error"].get<double>(), 1e-6);
+  const Result r = run("sweep --cases chain-10 --iterations 1 --seconds 0.5 --stability");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("| chain-10 | ldl-pgs | 10 |"), std::string::npos) << r.out;
+}
+
+TEST(LdlpgsReport, WritesTheReportDirectory) {
+  const std::string dir = temp_path("report"), matrices = temp_path("matrices");
+  std::filesystem::create_directories(matrices);
+  std::filesystem::copy_file(kMatrices + "/bcsstk01.mtx", matrices + "/bcsstk01.mtx",
+                             std::filesystem::copy_options::overwrite_existing);
+  const Result r = run("report --sizes 12 --matrices " + matrices + " --out " + dir + " --no-figures");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream in(dir + "/index.md");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string index = ss.str();
+  for (const char* section : {"## 1. Orderings", "## 2. The block LDL^T against CHOLMOD", "## 3. The talk's figures",
+                              "## 4. Speed against error", "## 5. Where each solver breaks", "bcsstk01.mtx", "chain-12"})
+    EXPECT_NE(index.find(section), std::string::npos) << section;
+  EXPECT_NE(r.err.find("report [5/5]"), std::string::npos) << "no progress line: " << r.err;
+  std::ifstream sweep(dir + "/sweep.json");
+  EXPECT_FALSE(nlohmann::json::parse(sweep).empty());
+}
+
+TEST(LdlpgsBadInput, SweepUnknownScene) { expect_input_error("sweep --cases no-such-scene", {"no-such-scene"}); }
+
+TEST(LdlpgsBadInput, SweepZeroIterations) { expect_input_error("sweep --cases chain-10 --iterations 0", {"--iterations"}); }
+
+TEST(LdlpgsBadInput, ReportUnwritableDirectory) {
+  expect_input_error("report --sizes 12 --out /proc/no-such-report --no-figures", {"/proc/no-such-report"});
 }
 
 TEST(LdlpgsBadInput, SpyUnknownScene) { expect_input_error("spy no-such-scene --out x.json", {"no-such-scene"}); }
