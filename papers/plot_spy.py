@@ -15,14 +15,9 @@ import json
 import os
 import sys
 
-try:
-    import matplotlib
-except ImportError:
-    # matplotlib is Debian's python3-matplotlib: under another python (pyenv, a venv), run again
-    # with Debian's.
-    if os.path.exists("/usr/bin/python3") and os.path.realpath(sys.executable) != os.path.realpath("/usr/bin/python3"):
-        os.execv("/usr/bin/python3", ["/usr/bin/python3", *sys.argv])
-    sys.exit("matplotlib is missing: apt-get install python3-matplotlib")
+from debian_python import require
+
+matplotlib = require("matplotlib", "python3-matplotlib")
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402 (after the backend)

@@ -4,16 +4,11 @@
 Usage: python3 papers/render_html.py INDEX.md INDEX.html
 Images keep their relative links, so the HTML page sits beside the figures it shows.
 """
-import os
 import sys
 
-try:
-    import markdown
-except ImportError:
-    # python3-markdown is Debian's: under another python (pyenv, a venv), run again with Debian's.
-    if os.path.exists("/usr/bin/python3") and os.path.realpath(sys.executable) != os.path.realpath("/usr/bin/python3"):
-        os.execv("/usr/bin/python3", ["/usr/bin/python3", *sys.argv])
-    sys.exit("python3-markdown is missing: apt-get install python3-markdown")
+from debian_python import require
+
+markdown = require("markdown", "python3-markdown")
 
 STYLE = """body { font-family: sans-serif; max-width: 75em; margin: 2em auto; line-height: 1.4; }
 table { border-collapse: collapse; font-size: 0.85em; margin: 1em 0; }

@@ -556,9 +556,9 @@ const nlohmann::json& point(const nlohmann::json& points, const std::string& sol
 }
 
 // The sweep's runs are the step command's: the same scene, solver and steps (1 s of 10 ms steps)
-// give the same largest error, and the sweep calls a run failed exactly when the step command's
-// energy grew by more than its size (one PGS sweep a step pumps energy into the chain: -245 J to
-// 8114 J). More PGS sweeps bring the error down.
+// give the same largest error; a run the sweep calls an energy blow-up gains energy in the step
+// command too (one PGS sweep a step pumps energy into the chain: -245 J to 8114 J). More PGS
+// sweeps bring the error down.
 TEST(LdlpgsSweep, PointsAreTheStepCommandsRuns) {
   const nlohmann::json points = sweep_points("--cases chain-10 --iterations 1,64");
   ASSERT_EQ(points.size(), 7u);  // pgs, block-gs, ldl-pgs at two counts, direct
@@ -568,7 +568,9 @@ TEST(LdlpgsSweep, PointsAreTheStepCommandsRuns) {
     ASSERT_EQ(r.code, 0) << r.err;
     const nlohmann::json j = nlohmann::json::parse(r.out);
     const double e0 = j["energy_initial"].get<double>(), e1 = j["energy_final"].get<double>();
-    EXPECT_EQ(p["failed"].get<bool>(), e1 - e0 > std::max(1.0, std::abs(e0))) << solver << " " << iterations;
+    if (p["failure"] == "energy") {
+      EXPECT_GT(e1 - e0, 100) << solver << " " << iterations;
+    }
     if (!p["failed"].get<bool>()) {
       EXPECT_DOUBLE_EQ(p["error_max"].get<double>(), j["position_error_max"].get<double>()) << solver << " " << iterations;
     }
