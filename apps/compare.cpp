@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "physics/step.h"
 #include "sparse/error.h"
 #include "sparse/families.h"
 #include "sparse/mechanism_matrix.h"
@@ -26,6 +27,16 @@ Problem make_mechanism(const std::string& family, int num_constraints) {
   p.blocks = constraint_graph(make_family(family, num_constraints));
   p.name = family + "-" + std::to_string(p.blocks.num_blocks());
   p.a = mechanism_matrix(make_family(family, num_constraints));
+  p.scalar_graph = graph_of(p.a);
+  return p;
+}
+
+Problem scene_problem(const Mechanism& m) {
+  Problem p;
+  p.name = m.name;
+  std::vector<int> sizes;
+  p.a = equality_matrix(build_system(m, StepOptions{}), &sizes);
+  p.blocks = BlockPattern::from_scalar(p.a, sizes);
   p.scalar_graph = graph_of(p.a);
   return p;
 }

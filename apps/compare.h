@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "factor/verify.h"
+#include "physics/mechanism.h"
 #include "ordering/metrics.h"
 #include "sparse/cholmod_adapter.h"
 
@@ -25,6 +26,9 @@ struct Problem {
 Problem load_matrix(const std::string& path, const std::string& blocks_spec, int max_block);
 // A generated mechanism: its constraint graph, values H = J W J^T + 1e-6 diag (mechanism_matrix.h).
 Problem make_mechanism(const std::string& family, int num_constraints);
+// A scene's H_0 = J W J^T + eps diag(H) over its equality constraints at the initial pose, one
+// block per constraint (what `ldlpgs export --no-shatter` writes).
+Problem scene_problem(const Mechanism& m);
 // A Matrix Market file, or FAMILY:CONSTRAINTS (e.g. chain:100) for a generated mechanism.
 Problem load_problem(const std::string& spec, const std::string& blocks_spec, int max_block);
 

@@ -1,5 +1,5 @@
-// ldlpgs report: the main job. On the generated mechanism families, the test matrices and the
-// built-in scenes, in five stages:
+// ldlpgs report: the main job. On the generated mechanism families, the built-in scenes and the
+// test matrices, in five stages:
 //   1. the orderings comparison (papers/orderings.md),
 //   2. the block LDL^T of every problem verified against CHOLMOD's (factor/verify.h),
 //   3. the talk's table and spy plots (papers/talk_figures.py, papers/talk-figures.md),
@@ -24,6 +24,7 @@
 #include "apps/compare.h"
 #include "apps/sweep.h"
 #include "sparse/error.h"
+#include "physics/scenes.h"
 #include "sparse/families.h"
 
 namespace ldlpgs::cli {
@@ -159,6 +160,12 @@ Command add_report_command(CLI::App& app) {
         show(make_mechanism(std::string(family), size));
       }
     }
+    for (const std::string& name : builtin_scene_names()) {
+      const Mechanism m = load_mechanism(name);
+      if (m.constraint_graph(true).num_blocks() == 0) continue;
+      std::fprintf(stderr, "report: scene %s\n", name.c_str());
+      show(scene_problem(m));
+    }
     for (const std::string& file : files) {
       std::fprintf(stderr, "report: %s\n", file.c_str());
       try {
@@ -170,7 +177,8 @@ Command add_report_command(CLI::App& app) {
       }
     }
     if (o->markdown) print_markdown_by_metric(stdout, results);
-    std::fprintf(md, "## 1. Orderings\n\nThe generated mechanism families at %zu sizes and the matrices of `%s`, "
+    std::fprintf(md, "## 1. Orderings\n\nThe generated mechanism families at %zu sizes, the built-in scenes' H_0 "
+                 "(whole, as `ldlpgs export SCENE --no-shatter` writes it) and the matrices of `%s`, "
                  "every ordering; scalar counts as CHOLMOD defines them, block flops the talk's cost model "
                  "(papers/orderings.md explains the columns). One problem in detail: "
                  "`build/bin/ldlpgs order PROBLEM --cholmod`.\n",
