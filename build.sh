@@ -11,7 +11,8 @@ cmd=${1:-test}
 shift || true
 
 packages=(cmake g++ make libsuitesparse-dev libmetis-dev libeigen3-dev libgtest-dev
-          libbenchmark-dev nlohmann-json3-dev libcli11-dev)
+          libbenchmark-dev nlohmann-json3-dev libcli11-dev pkg-config
+          libmujoco-dev libmujoco-samples libode-dev libbullet-dev)
 
 install_missing() {
   local missing=()
