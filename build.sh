@@ -12,7 +12,8 @@ shift || true
 
 packages=(cmake g++ make libsuitesparse-dev libmetis-dev libeigen3-dev libgtest-dev
           libbenchmark-dev nlohmann-json3-dev libcli11-dev pkg-config
-          libmujoco-dev libmujoco-samples libode-dev libbullet-dev)
+          libmujoco-dev libqhull-dev libmujoco-samples libode-dev libbullet-dev)
+# (libqhull-dev: Debian's mujocoConfig.cmake names /usr/include/libqhull_r/ and fails without it)
 
 install_missing() {
   local missing=()

@@ -10,6 +10,7 @@
 
 #include "apps/commands.h"
 #include "apps/shatter_args.h"
+#include "physics/mjcf.h"
 #include "physics/scene.h"
 #include "physics/scenes.h"
 #include "physics/step.h"
@@ -19,6 +20,14 @@
 namespace ldlpgs::cli {
 
 Mechanism load_mechanism(const std::string& spec) {
+  // An MJCF model (physics/mjcf.h) by its extension, even if missing: MuJoCo names the problem.
+  if (is_mjcf_path(spec)) {
+    MjcfDropped dropped;
+    Mechanism m = load_mjcf(spec, &dropped);
+    const std::string line = describe(dropped);
+    if (!line.empty()) std::fprintf(stderr, "%s: %s\n", spec.c_str(), line.c_str());
+    return m;
+  }
   if (std::filesystem::exists(spec)) return load_scene(spec);
   Mechanism m;
   if (builtin_scene(spec, &m)) return m;

@@ -60,8 +60,8 @@ struct Breakdown {
 std::vector<Breakdown> stability(const std::vector<std::string>& cases, int iterations, double seconds, bool progress);
 
 void print_sweep_markdown(std::FILE* out, const std::vector<SweepPoint>& points);
-// A row per case, per solver: the lowest final error reached (and the time per step it took),
-// and the fastest run whose final error is within 1 mm ("-": none).
+// A row per case, per solver: the lowest error reached over a run (the cheapest run within 1% of
+// it, and its time per step), and the fastest run whose error stays within 1 mm ("-": none).
 void print_sweep_summary(std::FILE* out, const std::vector<SweepPoint>& points);
 void print_stability_markdown(std::FILE* out, const std::vector<Breakdown>& rows);
 nlohmann::json to_json(const std::vector<SweepPoint>& points);

@@ -646,5 +646,51 @@ TEST(LdlpgsBadInput, SpySceneWithoutEqualityConstraints) {
   expect_input_error("spy " + path + " --out " + temp_path("x.json"), {"ropes.json", "no equality constraints"});
 }
 
+// MJCF models (physics/mjcf.h): step and export load them by their .xml extension, and say once
+// on stderr what was dropped. Whether the program was built with MuJoCo is asked of it.
+const std::string kHumanoid = "/usr/share/mujoco/model/humanoid/humanoid.xml";
+
+bool program_reads_mjcf() {
+  static const bool reads = run("step /nonexistent/model.xml").err.find("need MuJoCo") == std::string::npos;
+  return reads;
+}
+
+TEST(LdlpgsStep, MjcfHumanoid) {
+  if (!program_reads_mjcf()) GTEST_SKIP() << "built without MuJoCo";
+  if (!std::filesystem::exists(kHumanoid)) GTEST_SKIP() << kHumanoid << " missing (libmujoco-samples)";
+  const Result r = run("step " + kHumanoid + " --no-shatter --steps 50 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line of what was dropped: " << r.err;
+  EXPECT_NE(r.err.find("dropped: 20 geoms"), std::string::npos) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["bodies"], 17) << "16 bodies and the world";
+  EXPECT_LT(j["position_error_max"].get<double>(), 1e-6) << "falling at rest";
+}
+
+TEST(LdlpgsExport, MjcfHumanoid) {
+  if (!program_reads_mjcf()) GTEST_SKIP() << "built without MuJoCo";
+  if (!std::filesystem::exists(kHumanoid)) GTEST_SKIP() << kHumanoid << " missing (libmujoco-samples)";
+  const std::string mtx = temp_path("humanoid.mtx"), blocks = temp_path("humanoid.blocks");
+  const Result r = run("export " + kHumanoid + " --no-shatter --matrix " + mtx + " --blocks " + blocks);
+  ASSERT_EQ(r.code, 0) << r.err;
+  // The equality rows: 6 x 16 bodies - 27 degrees of freedom (MuJoCo's nv) = 69.
+  EXPECT_EQ(read_matrix_market(mtx).n, 69);
+}
+
+TEST(LdlpgsBadInput, StepMjcfWithAConstructWeCannotRepresent) {
+  const std::string path = temp_file("slides.xml", R"(<mujoco><worldbody><body name="box"><joint type="slide" axis="1 0 0"/>
+    <joint type="slide" axis="0 1 0"/><geom size=".1"/></body></worldbody></mujoco>)");
+  if (program_reads_mjcf())
+    expect_input_error("step " + path, {"slides.xml", "body \"box\"", "2 slides"});
+  else
+    expect_input_error("step " + path, {"slides.xml", "need MuJoCo"});
+}
+
+TEST(LdlpgsBadInput, ExportUnparsableMjcf) {
+  const std::string path = temp_file("broken.xml", "<mujoco><worldbody>");
+  expect_input_error("export " + path + " --matrix x.mtx --blocks x.blocks",
+                     {"broken.xml", program_reads_mjcf() ? "MuJoCo cannot load it" : "need MuJoCo"});
+}
+
 }  // namespace
 }  // namespace ldlpgs

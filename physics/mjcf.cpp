@@ -1,0 +1,463 @@
+// MJCF -> Mechanism in maximal coordinates (the table and the universal joint: mjcf.h). MuJoCo
+// compiles the file; we read the compiled mjModel and the kinematics of mj_kinematics at qpos0:
+// xipos/ximat (each body's centre of mass and principal frame, our RigidBody's pose), xanchor
+// and xaxis (each joint's point and axis, world frame), xpos/xquat (body frames, for the
+// equalities' data, which MuJoCo gives in body frames).
+#include "physics/mjcf.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "sparse/error.h"
+
+#ifdef LDLPGS_HAVE_MUJOCO
+#include <mujoco/mujoco.h>
+#endif
+
+namespace ldlpgs {
+
+bool is_mjcf_path(const std::string& path) { return std::filesystem::path(path).extension() == ".xml"; }
+
+std::string describe(const MjcfDropped& dropped) {
+  std::string s;
+  auto add = [&s](int n, const char* what) {
+    if (n == 0) return;
+    s += s.empty() ? "dropped: " : ", ";
+    s += std::to_string(n);
+    s += " ";
+    s += what;
+  };
+  add(dropped.geoms, "geoms (no contacts)");
+  add(dropped.tendons, "tendons");
+  add(dropped.actuators, "actuators");
+  add(dropped.sensors, "sensors");
+  add(dropped.joint_dynamics, "joints' stiffness/damping/armature/friction loss");
+  add(dropped.ranges, "joint ranges (ball joints, 3-hinge sets)");
+  add(dropped.inactive_equalities, "inactive equalities");
+  add(dropped.static_equalities, "equalities between static bodies");
+  add(dropped.keyframes, "keyframes (we start at qpos0, at rest)");
+  return s;
+}
+
+#ifndef LDLPGS_HAVE_MUJOCO
+
+bool mjcf_supported() { return false; }
+
+Mechanism load_mjcf(const std::string& path, MjcfDropped*) {
+  throw InputError(path + ": MJCF models need MuJoCo (Debian's libmujoco-dev); rebuild with it installed");
+}
+
+#else
+
+bool mjcf_supported() { return true; }
+
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::Quaterniond;
+using Eigen::Vector3d;
+
+// |n1 x n2| of unit axes below this: parallel (and |det| of three axes: dependent).
+constexpr double kParallel = 1e-9;
+// Hinge axes meet when the point closest to all their lines lies within this (relative to the
+// anchors' distance from the origin) of each: MuJoCo's kinematics are exact to rounding.
+constexpr double kMeet = 1e-9;
+// A weld's relpose equals the pose at qpos0 to this (relative position, quaternion vector part).
+constexpr double kSamePose = 1e-9;
+
+struct ModelDeleter {
+  void operator()(mjModel* m) const { mj_deleteModel(m); }
+};
+struct DataDeleter {
+  void operator()(mjData* d) const { mj_deleteData(d); }
+};
+
+Vector3d vec3(const mjtNum* p) { return Vector3d(p[0], p[1], p[2]); }
+Quaterniond quat(const mjtNum* wxyz) { return Quaterniond(wxyz[0], wxyz[1], wxyz[2], wxyz[3]).normalized(); }
+
+const char* joint_type_name(int type) {
+  switch (type) {
+    case mjJNT_FREE: return "free";
+    case mjJNT_BALL: return "ball";
+    case mjJNT_SLIDE: return "slide";
+    case mjJNT_HINGE: return "hinge";
+  }
+  return "unknown";
+}
+
+const char* equality_type_name(int type) {
+  switch (type) {
+    case mjEQ_CONNECT: return "connect";
+    case mjEQ_WELD: return "weld";
+    case mjEQ_JOINT: return "joint";
+    case mjEQ_TENDON: return "tendon";
+    case mjEQ_DISTANCE: return "distance";
+  }
+  return "unknown";
+}
+
+// Orthonormal columns (u, n x u, n): u = the part of `toward` across the unit axis n.
+Matrix3d frame_about(const Vector3d& n, const Vector3d& toward) {
+  const Vector3d u = (toward - toward.dot(n) * n).normalized();
+  Matrix3d f;
+  f.col(0) = u;
+  f.col(1) = n.cross(u);
+  f.col(2) = n;
+  return f;
+}
+
+// Orthonormal columns (x, v, x cross v) with the unit x first.
+Matrix3d frame_from(const Vector3d& x) {
+  const Vector3d v = x.unitOrthogonal();
+  Matrix3d f;
+  f.col(0) = x;
+  f.col(1) = v;
+  f.col(2) = x.cross(v);
+  return f;
+}
+
+// One joint of a body, world frame at qpos0; its range relative to qpos0 (our limits measure
+// from the initial pose, MuJoCo's from q = 0).
+struct Joint {
+  int id = -1, type = mjJNT_HINGE;
+  Vector3d anchor, axis;  // axis unit
+  bool limited = false;
+  double lo = 0, hi = 0;
+};
+
+class Converter {
+ public:
+  Converter(const std::string& path, const mjModel* m, const mjData* d, Mechanism* out, MjcfDropped* dropped)
+      : path_(path), m_(m), d_(d), out_(out), dropped_(dropped) {}
+
+  void run() {
+    out_->gravity = (m_->opt.disableflags & mjDSBL_GRAVITY) ? Vector3d::Zero() : vec3(m_->opt.gravity);
+    out_->timestep = m_->opt.timestep;
+    for (int b = 0; b < m_->nbody; ++b) out_->add_body(body(b));
+    for (int b = 1; b < m_->nbody; ++b) joint_rows(b);
+    for (int e = 0; e < m_->neq; ++e) equality(e);
+    dropped_->geoms = m_->ngeom;
+    dropped_->tendons = m_->ntendon;
+    dropped_->actuators = m_->nu;
+    dropped_->sensors = m_->nsensor;
+    dropped_->keyframes = m_->nkey;
+    for (int j = 0; j < m_->njnt; ++j) {
+      const int dofs = m_->jnt_type[j] == mjJNT_FREE ? 6 : m_->jnt_type[j] == mjJNT_BALL ? 3 : 1;
+      bool dynamics = m_->jnt_stiffness[j] != 0;
+      for (int k = m_->jnt_dofadr[j]; k < m_->jnt_dofadr[j] + dofs; ++k)
+        dynamics = dynamics || m_->dof_damping[k] != 0 || m_->dof_armature[k] != 0 || m_->dof_frictionloss[k] != 0;
+      dropped_->joint_dynamics += dynamics ? 1 : 0;
+    }
+  }
+
+ private:
+  std::string name(int adr, const char* kind, int id) const {
+    std::string s = m_->names + adr;
+    if (s.empty()) {
+      s = kind;
+      s += std::to_string(id);
+    }
+    return s;
+  }
+  std::string body_name(int b) const { return name(m_->name_bodyadr[b], "body", b); }
+
+  [[noreturn]] void fail(const std::string& what, const std::string& problem) const {
+    std::string s = path_;
+    s += ": ";
+    s += what;
+    s += ": ";
+    s += problem;
+    throw InputError(s);
+  }
+  std::string body_label(int b) const {
+    std::string s = "body \"";
+    s += body_name(b);
+    s += "\"";
+    return s;
+  }
+
+  RigidBody body(int b) const {
+    RigidBody r;
+    r.name = body_name(b);
+    // Welded to the world (no joint on the path to it; mocap bodies are): MuJoCo never moves it.
+    r.is_static = b == 0 || m_->body_weldid[b] == 0;
+    r.mass = m_->body_mass[b];
+    r.inertia = vec3(m_->body_inertia + 3 * b);
+    r.position = vec3(d_->xipos + 3 * b);
+    // ximat: the principal (inertial) frame -> world, row-major 3x3
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> ximat(d_->ximat + 9 * b);
+    r.orientation = Quaterniond(Matrix3d(ximat)).normalized();
+    if (!r.is_static && !(r.mass > 0 && r.inertia.minCoeff() > 0)) {
+      std::string problem = "a moving body needs a positive mass and inertia, got mass ";
+      problem += std::to_string(r.mass);
+      problem += " and inertia";
+      for (int k = 0; k < 3; ++k) {
+        problem += k ? ", " : " [";
+        problem += std::to_string(r.inertia[k]);
+      }
+      problem += "]";
+      fail(body_label(b), problem);
+    }
+    return r;
+  }
+
+  Joint joint(int j) const {
+    Joint J;
+    J.id = j;
+    J.type = m_->jnt_type[j];
+    J.anchor = vec3(d_->xanchor + 3 * j);
+    J.axis = vec3(d_->xaxis + 3 * j).normalized();
+    J.limited = m_->jnt_limited[j] && !(m_->opt.disableflags & mjDSBL_LIMIT);
+    if (J.limited && (J.type == mjJNT_HINGE || J.type == mjJNT_SLIDE)) {
+      const double q0 = m_->qpos0[m_->jnt_qposadr[j]];
+      J.lo = m_->jnt_range[2 * j] - q0;
+      J.hi = m_->jnt_range[2 * j + 1] - q0;
+    }
+    return J;
+  }
+
+  int add(const Constraint& c) { return out_->add_constraint(c); }
+  const RigidBody& at(int b) const { return out_->bodies[b]; }
+
+  void angular_limit(int p, int b, const Joint& j) {
+    if (j.limited) add(make_angular_limit(p, at(p), b, at(b), j.axis, j.lo, j.hi));
+  }
+  void positional_limit(int p, int b, const Vector3d& anchor, const Joint& j) {
+    if (j.limited) add(make_positional_limit(p, at(p), b, at(b), anchor, j.axis, j.lo, j.hi));
+  }
+
+  // The joints between body b and its parent p as rows (the table in mjcf.h).
+  void joint_rows(int b) {
+    const RigidBody& child = at(b);
+    if (child.is_static) return;  // welded to the world: no joints, nothing to hold
+    const int p = m_->body_parentid[b];
+    std::vector<Joint> hinges, slides, all;  // in MuJoCo's order (sizes: the body's joints)
+    for (int j = m_->body_jntadr[b]; j < m_->body_jntadr[b] + m_->body_jntnum[b]; ++j) {
+      all.push_back(joint(j));
+      if (all.back().type == mjJNT_HINGE) hinges.push_back(all.back());
+      if (all.back().type == mjJNT_SLIDE) slides.push_back(all.back());
+    }
+    std::string label = body_label(b);
+    if (!all.empty()) {
+      label += ": joints";
+      for (size_t k = 0; k < all.size(); ++k) {
+        label += k ? ", " : " ";
+        label += name(m_->name_jntadr[all[k].id], "joint", all[k].id);
+        label += " (";
+        label += joint_type_name(all[k].type);
+        label += ")";
+      }
+    }
+    // What rows the set would need, for refusals: 3 - (independent slides) translational and
+    // 3 - (independent hinges; 3 with a ball) rotational.
+    auto refuse = [&](const std::string& why) {
+      std::string s = why;
+      s += "; our constraint types (physics/constraint.h) have no such rows";
+      fail(label, s);
+    };
+
+    if (all.empty()) {  // rigidly attached to a moving parent
+      add(make_axial(ConstraintType::weld, p, at(p), b, child, child.position, Vector3d::UnitX()));
+      return;
+    }
+    if (all.size() == 1 && all[0].type == mjJNT_FREE) return;  // six degrees of freedom: no rows
+    if (all.size() == 1 && all[0].type == mjJNT_BALL) {
+      add(make_ball(p, at(p), b, child, all[0].anchor));
+      if (m_->jnt_limited[all[0].id] && !(m_->opt.disableflags & mjDSBL_LIMIT)) ++dropped_->ranges;  // a cone
+      return;
+    }
+    if (hinges.size() + slides.size() != all.size())
+      refuse("a free or ball joint combined with other joints");
+
+    if (slides.empty() && hinges.size() == 1) {
+      const Joint& h = hinges[0];
+      add(make_axial(ConstraintType::hinge, p, at(p), b, child, h.anchor, h.axis));
+      angular_limit(p, b, h);
+      return;
+    }
+    if (hinges.empty() && slides.size() == 1) {
+      const Joint& s = slides[0];
+      add(make_axial(ConstraintType::prismatic, p, at(p), b, child, child.position, s.axis));
+      positional_limit(p, b, child.position, s);
+      return;
+    }
+    if (hinges.size() == 1 && slides.size() == 1) {
+      const Joint &h = hinges[0], &s = slides[0];
+      if (h.axis.cross(s.axis).norm() > kParallel)
+        refuse("a hinge and a slide on different axes (1 rotational and 1 translational degree of freedom off "
+               "one axis: 2 translational and 2 rotational rows not of a cylindrical joint)");
+      add(make_axial(ConstraintType::cylindrical, p, at(p), b, child, h.anchor, h.axis));
+      angular_limit(p, b, h);
+      positional_limit(p, b, h.anchor, s);
+      return;
+    }
+    if (!slides.empty()) {
+      std::string why = std::to_string(slides.size());
+      why += " slides and ";
+      why += std::to_string(hinges.size());
+      why += " hinges (would need ";
+      why += std::to_string(3 - static_cast<int>(slides.size()));
+      why += " translational and ";
+      why += std::to_string(3 - static_cast<int>(hinges.size()));
+      why += " rotational rows";
+      why += slides.size() == 3 && hinges.empty() ? ": an orientation-only constraint)" : ")";
+      refuse(why);
+    }
+    if (hinges.size() > 3) refuse("more than three hinges");
+
+    // Two or three hinges with independent axes (parallel ones would be a hinge with a
+    // redundant coordinate).
+    const bool independent = hinges.size() == 2
+                                 ? hinges[0].axis.cross(hinges[1].axis).norm() > kParallel
+                                 : std::abs(hinges[0].axis.dot(hinges[1].axis.cross(hinges[2].axis))) > kParallel;
+    if (!independent) refuse("hinges with dependent (parallel or coplanar) axes");
+    double size = 1;  // the anchors' scale, for the meeting tolerance
+    for (const Joint& h : hinges) size = std::max(size, h.anchor.norm());
+    if (hinges.size() == 3) {
+      // P minimizes sum_i |(I - n_i n_i^T)(P - a_i)|^2: (sum_i Q_i) P = sum_i Q_i a_i, Q_i the
+      // projector across axis i (invertible for independent axes). If all three lines pass
+      // through P, P stays fixed in both bodies and all rotation is free: a ball.
+      Matrix3d q_sum = Matrix3d::Zero();
+      Vector3d rhs = Vector3d::Zero();
+      for (const Joint& h : hinges) {
+        const Matrix3d q = Matrix3d::Identity() - h.axis * h.axis.transpose();
+        q_sum += q;
+        rhs += q * h.anchor;
+      }
+      const Vector3d point = q_sum.fullPivLu().solve(rhs);
+      for (const Joint& h : hinges) {
+        const double miss = ((Matrix3d::Identity() - h.axis * h.axis.transpose()) * (point - h.anchor)).norm();
+        if (miss > kMeet * size) {
+          std::string why = "three hinges whose axes do not meet in one point (";
+          why += std::to_string(miss);
+          why += " m off): the child's translation then depends on its rotation";
+          refuse(why);
+        }
+      }
+      add(make_ball(p, at(p), b, child, point));
+      // Their ranges bound Euler angles, which our limits (one angle about one axis) cannot
+      // measure.
+      for (const Joint& h : hinges) dropped_->ranges += h.limited ? 1 : 0;
+      return;
+    }
+    // Universal joint (mjcf.h): the closest points P1 = a1 + s n1 (on the parent) and
+    // P2 = a2 + t n2 (on the child) of the two axis lines, from (P2 - P1) . n1 = (P2 - P1) . n2 = 0:
+    // with w = a1 - a2, k = n1.n2: s = (k (n2.w) - n1.w) / (1 - k^2), t = (n2.w - k (n1.w)) / (1 - k^2).
+    const Joint &h1 = hinges[0], &h2 = hinges[1];
+    const Vector3d &n1 = h1.axis, &n2 = h2.axis;
+    const Vector3d w = h1.anchor - h2.anchor;
+    const double k = n1.dot(n2), denominator = 1 - k * k;
+    const Vector3d p1 = h1.anchor + ((k * n2.dot(w) - n1.dot(w)) / denominator) * n1;
+    const Vector3d p2 = h2.anchor + ((n2.dot(w) - k * n1.dot(w)) / denominator) * n2;
+    const double offset = (p2 - p1).norm();
+    const double length = kUniversalRodLength;
+    if (offset <= kMeet * size) {
+      add(make_ball(p, at(p), b, child, (p1 + p2) / 2));
+      add(make_distance(ConstraintType::rod, p, at(p), b, child, p1 + length * n1, p2 + length * n2));
+    } else {
+      add(make_distance(ConstraintType::rod, p, at(p), b, child, p1, p2));
+      add(make_distance(ConstraintType::rod, p, at(p), b, child, p1 + length * n1, p2));
+      add(make_distance(ConstraintType::rod, p, at(p), b, child, p1, p2 + length * n2));
+      add(make_distance(ConstraintType::rod, p, at(p), b, child, p1 + length * n1, p2 + length * n2));
+    }
+    // q1 turns the child about n1 (parent-fixed) and leaves n2 (child-fixed) alone, so q1 is the
+    // angle of the child's n2 about the parent's n1, measured from its qpos0 direction: an
+    // angular_limit with u_a = n2's part across n1 on the parent and u_b = n2 on the child
+    // (hinge_angle reads only those and n_a; the part of u_b along n_a changes neither s nor k).
+    const Matrix3d rp = at(p).orientation.toRotationMatrix(), rc = child.orientation.toRotationMatrix();
+    if (h1.limited) {
+      Constraint c = make_angular_limit(p, at(p), b, child, n1, h1.lo, h1.hi);
+      c.frame_a = rp.transpose() * frame_about(n1, n2);
+      c.frame_b = rc.transpose() * frame_from(n2);
+      add(c);
+    }
+    // q2 turns the child about n2 (child-fixed) after q1, which leaves n1 (parent-fixed) alone, so
+    // seen from the child the parent's n1 turns by -q2 about n2: the limit with a = child.
+    if (h2.limited) {
+      Constraint c = make_angular_limit(b, child, p, at(p), n2, -h2.hi, -h2.lo);
+      c.frame_a = rc.transpose() * frame_about(n2, n1);
+      c.frame_b = rp.transpose() * frame_from(n1);
+      add(c);
+    }
+  }
+
+  void equality(int e) {
+    std::string label = "equality \"";
+    label += name(m_->name_eqadr[e], "equality", e);
+    label += "\" (";
+    label += equality_type_name(m_->eq_type[e]);
+    label += ")";
+    if (!m_->eq_active[e] || (m_->opt.disableflags & mjDSBL_EQUALITY)) {
+      ++dropped_->inactive_equalities;
+      return;
+    }
+    const int type = m_->eq_type[e];
+    if (type != mjEQ_CONNECT && type != mjEQ_WELD)
+      fail(label, "couples joint values or tendon lengths; our constraints (physics/constraint.h) hold bodies only");
+    const int b1 = m_->eq_obj1id[e], b2 = m_->eq_obj2id[e];
+    if (at(b1).is_static && at(b2).is_static) {
+      ++dropped_->static_equalities;
+      return;
+    }
+    const mjtNum* data = m_->eq_data + mjNEQDATA * e;  // (size mjNEQDATA)
+    const Vector3d x1 = vec3(d_->xpos + 3 * b1), x2 = vec3(d_->xpos + 3 * b2);
+    const Quaterniond q1 = quat(d_->xquat + 4 * b1), q2 = quat(d_->xquat + 4 * b2);
+    if (type == mjEQ_CONNECT) {
+      // data[0..2]: the anchor in body1's frame, data[3..5]: in body2's (MuJoCo computes it at
+      // qpos0); both kept, so a connect that starts apart is pulled together as in MuJoCo.
+      Constraint c = make_ball(b1, at(b1), b2, at(b2), x1 + q1 * vec3(data));
+      c.anchor_b = at(b2).orientation.conjugate() * (x2 + q2 * vec3(data + 3) - at(b2).position);
+      add(c);
+      return;
+    }
+    // weld: data[3..5] and data[6..9] are body2's pose in body1's frame (relpose). Our weld holds
+    // the pose the bodies have, so it must be the relpose.
+    const Vector3d relpos = q1.conjugate() * (x2 - x1);
+    const Quaterniond relquat = q1.conjugate() * q2;
+    const Quaterniond wanted = quat(data + 6);
+    const double pose_error = (relpos - vec3(data + 3)).norm() / (1 + relpos.norm());
+    const double angle_error = (wanted.conjugate() * relquat).vec().norm();
+    if (!(pose_error <= kSamePose && angle_error <= kSamePose))
+      fail(label, "its relpose differs from the bodies' relative pose at qpos0 (we weld bodies where they are)");
+    add(make_axial(ConstraintType::weld, b1, at(b1), b2, at(b2), at(b2).position, Vector3d::UnitX()));
+  }
+
+  const std::string& path_;
+  const mjModel* m_;
+  const mjData* d_;
+  Mechanism* out_;
+  MjcfDropped* dropped_;
+};
+
+}  // namespace
+
+Mechanism load_mjcf(const std::string& path, MjcfDropped* dropped) {
+  char error[1024] = "";
+  std::unique_ptr<mjModel, ModelDeleter> model(mj_loadXML(path.c_str(), nullptr, error, sizeof error));
+  if (!model) {
+    std::string s = path;
+    s += ": MuJoCo cannot load it: ";
+    std::string message = error;
+    for (char& ch : message)
+      if (ch == '\n') ch = ' ';  // one line
+    while (!message.empty() && message.back() == ' ') message.pop_back();
+    s += message.empty() ? "unknown error" : message;
+    throw InputError(s);
+  }
+  std::unique_ptr<mjData, DataDeleter> data(mj_makeData(model.get()));  // qpos = qpos0, qvel = 0
+  mj_kinematics(model.get(), data.get());  // poses only: no collision detection, no dynamics
+  Mechanism m;
+  m.name = std::filesystem::path(path).stem().string();
+  MjcfDropped ignored;
+  Converter(path, model.get(), data.get(), &m, dropped ? dropped : &ignored).run();
+  return m;
+}
+
+#endif
+
+}  // namespace ldlpgs

@@ -1,0 +1,422 @@
+// MJCF models as mechanisms (physics/mjcf.h), checked against MuJoCo itself: for every shipped
+// model we can represent, the counts and masses MuJoCo reports, the centres of mass of its
+// kinematics, and, at random configurations MuJoCo computes, that every joint row holds (c = 0)
+// and annihilates every motion MuJoCo's coordinates allow (J V = 0 for the Jacobian of each dof)
+// while the rows number exactly 6 n - nv: the rows remove exactly the degrees of freedom the
+// joints do not allow. Then the humanoid in free fall, and one named test per bad input.
+#include "physics/mjcf.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "physics/step.h"
+#include "sparse/error.h"
+#include "tests/temp_files.h"
+
+#ifdef LDLPGS_HAVE_MUJOCO
+#include <mujoco/mujoco.h>
+#endif
+
+namespace ldlpgs {
+namespace {
+
+using Eigen::Vector3d;
+using testing::temp_file;
+
+// The message of the InputError that loading `path` throws ("" if it loads).
+std::string load_error(const std::string& path) {
+  try {
+    load_mjcf(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+#ifndef LDLPGS_HAVE_MUJOCO
+
+TEST(Mjcf, WithoutMuJoCoEveryModelIsRefused) {
+  const std::string message = load_error("model.xml");
+  EXPECT_NE(message.find("model.xml: MJCF models need MuJoCo"), std::string::npos) << message;
+}
+
+#else
+
+const std::string kModels = "/usr/share/mujoco/model";
+
+struct ModelDeleter {
+  void operator()(mjModel* m) const { mj_deleteModel(m); }
+};
+struct DataDeleter {
+  void operator()(mjData* d) const { mj_deleteData(d); }
+};
+using ModelPtr = std::unique_ptr<mjModel, ModelDeleter>;
+using DataPtr = std::unique_ptr<mjData, DataDeleter>;
+
+ModelPtr mujoco_model(const std::string& path) {
+  char error[1024] = "";
+  ModelPtr m(mj_loadXML(path.c_str(), nullptr, error, sizeof error));
+  EXPECT_TRUE(m) << path << ": " << error;
+  return m;
+}
+
+std::vector<std::string> shipped_models() {
+  std::vector<std::string> paths;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(kModels, ec))
+    if (entry.path().extension() == ".xml") paths.push_back(entry.path().string());
+  std::sort(paths.begin(), paths.end());
+  return paths;
+}
+
+// Equalities the converter turns into constraints (mjcf.h: after all the joints' constraints).
+int converted_equalities(const mjModel* m) {
+  int n = 0;
+  for (int e = 0; e < m->neq; ++e) {
+    const bool body_type = m->eq_type[e] == mjEQ_CONNECT || m->eq_type[e] == mjEQ_WELD;
+    const bool both_static = m->body_weldid[m->eq_obj1id[e]] == 0 && m->body_weldid[m->eq_obj2id[e]] == 0;
+    n += m->eq_active[e] && body_type && !both_static ? 1 : 0;
+  }
+  return n;
+}
+
+// Poses (xipos, ximat, ...), subtree centres of mass and the dof axes the Jacobians use; no
+// collision detection (MuJoCo would warn of full contact buffers on the piled-up composites).
+void kinematics(const mjModel* m, mjData* d) {
+  mj_kinematics(m, d);
+  mj_comPos(m, d);
+}
+
+// A random configuration: every coordinate moved from qpos0 (hinges, slides by up to 0.5;
+// quaternions turned by up to ~0.5 rad; free positions shifted).
+void random_configuration(const mjModel* m, mjData* d, std::mt19937* rng) {
+  std::uniform_real_distribution<double> u(-0.5, 0.5);
+  mju_copy(d->qpos, m->qpos0, m->nq);
+  for (int j = 0; j < m->njnt; ++j) {
+    mjtNum* q = d->qpos + m->jnt_qposadr[j];
+    switch (m->jnt_type[j]) {
+      case mjJNT_FREE:
+        for (int k = 0; k < 3; ++k) q[k] += u(*rng);
+        q += 3;
+        [[fallthrough]];
+      case mjJNT_BALL: {
+        const Eigen::Quaterniond turn(Eigen::AngleAxisd(u(*rng), Vector3d(u(*rng), u(*rng), 1).normalized()));
+        const Eigen::Quaterniond q1 = Eigen::Quaterniond(q[0], q[1], q[2], q[3]) * turn;
+        q[0] = q1.w(), q[1] = q1.x(), q[2] = q1.y(), q[3] = q1.z();
+        break;
+      }
+      default: q[0] += u(*rng);
+    }
+  }
+  mju_zero(d->qvel, m->nv);
+  kinematics(m, d);
+}
+
+// Our bodies put at MuJoCo's current pose (centre of mass xipos, principal frame ximat).
+void set_poses(const mjData* d, Mechanism* mech) {
+  for (size_t b = 0; b < mech->bodies.size(); ++b) {
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> r(d->ximat + 9 * b);
+    mech->bodies[b].position = Vector3d(d->xipos + 3 * b);
+    mech->bodies[b].orientation = Eigen::Quaterniond(Eigen::Matrix3d(r)).normalized();
+  }
+}
+
+// Body velocities (v at the centre of mass, w; world) of MuJoCo's unit motion qvel = e_k, for
+// every dof k: jac[b] is 6 x nv (mj_jacBodyCom).
+std::vector<Eigen::MatrixXd> body_jacobians(const mjModel* m, const mjData* d) {
+  std::vector<Eigen::MatrixXd> jac(m->nbody, Eigen::MatrixXd::Zero(6, m->nv));  // (size nbody)
+  std::vector<mjtNum> jacp(3 * m->nv), jacr(3 * m->nv);                            // row-major 3 x nv
+  for (int b = 1; b < m->nbody; ++b) {
+    mj_jacBodyCom(m, d, jacp.data(), jacr.data(), b);
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < m->nv; ++k) {
+        jac[b](r, k) = jacp[r * m->nv + k];
+        jac[b](3 + r, k) = jacr[r * m->nv + k];
+      }
+  }
+  return jac;
+}
+
+// J V for all dofs: rows x nv.
+Eigen::MatrixXd rows_times_motions(const ConstraintRows& rows, const Constraint& c,
+                                   const std::vector<Eigen::MatrixXd>& jac) {
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 12, Eigen::RowMajor>> j(rows.jacobian.data(), rows.rows, 12);
+  return j.leftCols(6) * jac[c.body_a] + j.rightCols(6) * jac[c.body_b];
+}
+
+// Rounding in MuJoCo's kinematics and ours at positions of O(10 m) and lever arms of O(1 m):
+// a wrong anchor, axis or frame gives errors of the size of the configuration change (0.1-1).
+constexpr double kRounding = 1e-10;
+
+TEST(Mjcf, ShippedModelsMatchMuJoCo) {
+  std::mt19937 rng(6);
+  int loaded = 0;
+  for (const std::string& path : shipped_models()) {
+    MjcfDropped dropped;
+    Mechanism mech;
+    try {
+      mech = load_mjcf(path, &dropped);
+    } catch (const InputError& e) {
+      const std::string error = e.what();
+      std::printf("skipped %s: %s\n", path.c_str(), error.c_str());
+      EXPECT_EQ(error.rfind(path + ": ", 0), 0u) << "the message names the file: " << error;
+      continue;
+    }
+    ++loaded;
+    SCOPED_TRACE(path);
+    const ModelPtr model = mujoco_model(path);
+    ASSERT_TRUE(model);
+    const mjModel* m = model.get();
+    const DataPtr data(mj_makeData(m));
+    mjData* d = data.get();
+    kinematics(m, d);
+
+    // Counts, masses, gravity, timestep.
+    ASSERT_EQ(static_cast<int>(mech.bodies.size()), m->nbody);
+    EXPECT_EQ(dropped.geoms, m->ngeom);
+    double mass = 0;
+    Vector3d moment = Vector3d::Zero();
+    for (const RigidBody& b : mech.bodies) {
+      mass += b.mass;
+      moment += b.mass * b.position;
+    }
+    EXPECT_NEAR(mass, mj_getTotalmass(m), 1e-12 * mass);
+    EXPECT_LE((moment / mass - Vector3d(d->subtree_com)).norm(), kRounding) << "whole-model centre of mass";
+    for (int b = 0; b < m->nbody; ++b)
+      EXPECT_LE((mech.bodies[b].position - Vector3d(d->xipos + 3 * b)).norm(), kRounding) << "body " << b;
+    EXPECT_EQ(mech.gravity, Vector3d(m->opt.gravity));
+    EXPECT_EQ(mech.timestep, m->opt.timestep);
+
+    // Degrees of freedom: the joints' equality rows remove exactly 6 n - nv of the 6 n.
+    const int equalities = converted_equalities(m);
+    const size_t joint_constraints = mech.constraints.size() - equalities;
+    int joint_rows = 0;
+    for (size_t c = 0; c < joint_constraints; ++c)
+      if (is_equality(mech.constraints[c].type)) joint_rows += num_rows(mech.constraints[c].type);
+    EXPECT_EQ(6 * mech.num_dynamic_bodies() - joint_rows, m->nv) << "degrees of freedom";
+
+    // At qpos0 every row holds, equalities included.
+    for (const Constraint& c : mech.constraints) {
+      const ConstraintRows rows = evaluate(c, mech.bodies[c.body_a], mech.bodies[c.body_b]);
+      if (is_equality(c.type)) {
+        for (int r = 0; r < rows.rows; ++r) EXPECT_LE(std::abs(rows.c[r]), kRounding) << to_string(c.type);
+      } else if (c.type == ConstraintType::angular_limit || c.type == ConstraintType::positional_limit) {
+        EXPECT_LE(std::abs(limit_value(c, mech.bodies[c.body_a], mech.bodies[c.body_b])), kRounding);
+      }
+    }
+
+    // At random configurations of MuJoCo's coordinates: the joints' rows still hold and their
+    // Jacobian annihilates every dof's motion; each limit moves with exactly one coordinate, at
+    // unit rate, and measures it (q - qpos0).
+    // The dense check costs O(nbody nv) memory and O(rows nv) time per trial: the many-humanoid
+    // models (nv in the hundreds and thousands) are copies of humanoid.xml's joints, checked there.
+    if (m->nv > 100) {
+      std::printf("%s: nv = %d, random configurations checked on the smaller models only\n", path.c_str(), m->nv);
+      continue;
+    }
+    for (int trial = 0; trial < 3; ++trial) {
+      random_configuration(m, d, &rng);
+      set_poses(d, &mech);
+      const std::vector<Eigen::MatrixXd> jac = body_jacobians(m, d);
+      double worst_c = 0, worst_jv = 0;
+      for (size_t ci = 0; ci < joint_constraints; ++ci) {
+        const Constraint& c = mech.constraints[ci];
+        const ConstraintRows rows = evaluate(c, mech.bodies[c.body_a], mech.bodies[c.body_b]);
+        const Eigen::MatrixXd jv = rows_times_motions(rows, c, jac);
+        if (is_equality(c.type)) {
+          for (int r = 0; r < rows.rows; ++r) worst_c = std::max(worst_c, std::abs(rows.c[r]));
+          worst_jv = std::max(worst_jv, jv.cwiseAbs().maxCoeff());
+          continue;
+        }
+        // A limit: one coordinate k with |J V_k| = 1, all others 0.
+        Eigen::Index k = 0;
+        jv.row(0).cwiseAbs().maxCoeff(&k);
+        EXPECT_NEAR(std::abs(jv(0, k)), 1.0, kRounding) << to_string(c.type) << " " << ci;
+        EXPECT_LE(jv.row(0).cwiseAbs().sum() - std::abs(jv(0, k)), kRounding) << "one coordinate only";
+        int joint = 0;
+        while (joint + 1 < m->njnt && m->jnt_dofadr[joint + 1] <= k) ++joint;
+        const double q = d->qpos[m->jnt_qposadr[joint]] - m->qpos0[m->jnt_qposadr[joint]];
+        // The row is the nearer side of the limit: the max side is negated (constraint.h).
+        const double value = limit_value(c, mech.bodies[c.body_a], mech.bodies[c.body_b]);
+        const bool max_side = value - c.min > c.max - value;
+        EXPECT_NEAR(value, (jv(0, k) > 0) != max_side ? q : -q, kRounding) << "limit " << ci << " on joint " << joint;
+      }
+      EXPECT_LE(worst_c, kRounding) << "joint rows at a MuJoCo configuration";
+      EXPECT_LE(worst_jv, kRounding) << "J V of MuJoCo's motions";
+    }
+  }
+  std::printf("%d shipped models loaded\n", loaded);
+  EXPECT_GE(loaded, 8) << "humanoids, rope, loop, slider crank, arm, mug, scene";
+}
+
+// Body velocities of MuJoCo's motion qvel (v at the centre of mass, w; world).
+void set_velocities(const mjModel* m, const mjData* d, Mechanism* mech) {
+  const std::vector<Eigen::MatrixXd> jac = body_jacobians(m, d);
+  const Eigen::Map<const Eigen::VectorXd> qvel(d->qvel, m->nv);
+  for (int b = 1; b < m->nbody; ++b) {
+    const Eigen::Matrix<double, 6, 1> v = jac[b] * qvel;
+    mech->bodies[b].linear_velocity = v.head<3>();
+    mech->bodies[b].angular_velocity = v.tail<3>();
+  }
+}
+
+struct Fall {
+  double separation = 0;  // largest |anchor_a - anchor_b| of the ball-based rows over the run (m)
+  ConstraintError error;  // largest over the run
+  double com_error = 0;   // largest |com - (p0 + v0 t + g t (t + dt) / 2)| (m)
+};
+
+Fall fall(Mechanism mech, double seconds) {
+  double mass = 0;
+  Vector3d p0 = Vector3d::Zero(), v0 = Vector3d::Zero();
+  for (const RigidBody& b : mech.bodies)
+    if (!b.is_static) {
+      mass += b.mass;
+      p0 += b.mass * b.position;
+      v0 += b.mass * b.linear_velocity;
+    }
+  p0 /= mass;
+  v0 /= mass;
+  const Vector3d g = mech.gravity;
+  const double dt = mech.timestep;
+  StepOptions options;
+  options.solver.kind = SolverKind::ldl_pgs;  // the humanoid's joint ranges are inequalities
+  Simulation sim(std::move(mech), options);
+  Fall out;
+  const int steps = static_cast<int>(std::lround(seconds / dt));
+  for (int s = 1; s <= steps; ++s) {
+    const StepReport r = sim.step();
+    EXPECT_TRUE(r.result.ok()) << "step " << s;
+    const Mechanism& now = sim.mechanism();
+    for (const Constraint& c : now.constraints) {
+      if (c.type != ConstraintType::ball && c.type != ConstraintType::hinge && c.type != ConstraintType::weld) continue;
+      const Vector3d a = now.bodies[c.body_a].to_world(c.anchor_a), b = now.bodies[c.body_b].to_world(c.anchor_b);
+      out.separation = std::max(out.separation, (a - b).norm());
+    }
+    out.error.position_max = std::max(out.error.position_max, r.error.position_max);
+    out.error.angular_max = std::max(out.error.angular_max, r.error.angular_max);
+    // Semi-implicit Euler: v_n = v0 + n g dt (the constraint impulses J^T lambda have no net
+    // linear part), x_n = x0 + dt sum_{k=1..n} v_k = x0 + v0 t + g t (t + dt) / 2 with t = n dt:
+    // the continuous p0 + v0 t + g t^2 / 2 plus g t dt / 2, the timestep's first-order error.
+    const double t = s * dt;
+    Vector3d com = Vector3d::Zero();
+    for (const RigidBody& b : now.bodies)
+      if (!b.is_static) com += b.mass * b.position;
+    com /= mass;
+    out.com_error = std::max(out.com_error, (com - (p0 + v0 * t + g * (t * (t + dt) / 2))).norm());
+  }
+  return out;
+}
+
+// The free fall of 2 s moves the centre of mass 20 m; 400 steps of rounding at that size are
+// ~1e-12 m. The discrete formula is exact up to that; against the continuous one the gap is
+// g t dt / 2 = 0.049 m at t = 2 s, dt = 5 ms.
+constexpr double kComRounding = 1e-10;
+
+TEST(Mjcf, HumanoidFallingAtRestStaysTogether) {
+  const Fall f = fall(load_mjcf(kModels + "/humanoid/humanoid.xml"), 2.0);
+  std::printf("humanoid at rest, 2 s: separation %.3g m, rows %.3g m / %.3g rad, centre of mass %.3g m\n",
+              f.separation, f.error.position_max, f.error.angular_max, f.com_error);
+  EXPECT_LT(f.separation, 1e-6);
+  EXPECT_LT(f.error.position_max, 1e-6);
+  EXPECT_LT(f.com_error, kComRounding);
+}
+
+// The same fall with every joint moving (a random qvel of MuJoCo's, so the velocities respect the
+// joints): the centre of mass still follows the formula; the separation is reported (velocity
+// steps drift by ~|w|^2 r dt^2 per step, which Baumgarte corrects).
+TEST(Mjcf, HumanoidFallingWhileMovingFollowsFreeFall) {
+  const std::string path = kModels + "/humanoid/humanoid.xml";
+  Mechanism mech = load_mjcf(path);
+  const ModelPtr model = mujoco_model(path);
+  ASSERT_TRUE(model);
+  const DataPtr data(mj_makeData(model.get()));
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> u(-1, 1);  // rad/s, m/s
+  for (int k = 0; k < model->nv; ++k) data->qvel[k] = u(rng);
+  kinematics(model.get(), data.get());
+  set_velocities(model.get(), data.get(), &mech);
+  const Fall f = fall(std::move(mech), 2.0);
+  std::printf("humanoid moving (qvel in [-1, 1]), 2 s: separation %.3g m, rows %.3g m / %.3g rad, centre of mass %.3g m\n",
+              f.separation, f.error.position_max, f.error.angular_max, f.com_error);
+  EXPECT_LT(f.com_error, kComRounding);
+}
+
+TEST(Mjcf, DroppedIsCountedAndDescribed) {
+  MjcfDropped dropped;
+  load_mjcf(kModels + "/humanoid/humanoid.xml", &dropped);
+  EXPECT_EQ(dropped.geoms, 20);
+  EXPECT_EQ(dropped.actuators, 21);
+  EXPECT_EQ(dropped.ranges, 6) << "the two hips' three hinges";
+  const std::string line = describe(dropped);
+  EXPECT_NE(line.find("20 geoms"), std::string::npos) << line;
+  EXPECT_NE(line.find("21 actuators"), std::string::npos) << line;
+  EXPECT_EQ(line.find('\n'), std::string::npos) << "one line";
+}
+
+// Bad input: the message names the file and the construct.
+void expect_refused(const std::string& path, std::initializer_list<std::string> fragments) {
+  const std::string message = load_error(path);
+  ASSERT_FALSE(message.empty()) << path << " loaded";
+  EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+  for (const std::string& f : fragments) EXPECT_NE(message.find(f), std::string::npos) << "'" << f << "' not in: " << message;
+}
+
+const std::string kBody = R"(<geom type="sphere" size=".1"/>)";
+
+TEST(MjcfBadInput, UnparsableFile) {
+  expect_refused(temp_file("broken.xml", "<mujoco><worldbody><body></worldbody>"), {"MuJoCo cannot load it"});
+}
+
+TEST(MjcfBadInput, MissingFile) { expect_refused("/nonexistent/model.xml", {"MuJoCo cannot load it"}); }
+
+TEST(MjcfBadInput, ThreeSlides) {
+  expect_refused(temp_file("slides.xml", "<mujoco><worldbody><body name=\"box\"><joint name=\"x\" type=\"slide\" axis=\"1 0 0\"/>"
+                                         "<joint name=\"y\" type=\"slide\" axis=\"0 1 0\"/><joint name=\"z\" type=\"slide\" "
+                                         "axis=\"0 0 1\"/>" + kBody + "</body></worldbody></mujoco>"),
+                 {"body \"box\"", "x (slide), y (slide), z (slide)", "3 rotational rows"});
+}
+
+// Two hinges on skew axes are a universal joint (the humanoid's ankles); three are not a ball.
+TEST(MjcfBadInput, ThreeHingesWhoseAxesDoNotMeet) {
+  expect_refused(temp_file("offset.xml", "<mujoco><worldbody><body name=\"arm\"><joint name=\"a\" axis=\"1 0 0\"/>"
+                                         "<joint name=\"b\" axis=\"0 1 0\" pos=\"0 0 .5\"/><joint name=\"c\" "
+                                         "axis=\"0 0 1\"/>" + kBody + "</body></worldbody></mujoco>"),
+                 {"body \"arm\"", "a (hinge), b (hinge), c (hinge)", "do not meet"});
+}
+
+TEST(MjcfBadInput, HingeAndSlideOnDifferentAxes) {
+  expect_refused(temp_file("hs.xml", "<mujoco><worldbody><body name=\"arm\"><joint name=\"a\" axis=\"1 0 0\"/>"
+                                     "<joint name=\"b\" type=\"slide\" axis=\"0 1 0\"/>" + kBody +
+                                     "</body></worldbody></mujoco>"),
+                 {"body \"arm\"", "a (hinge), b (slide)", "different axes"});
+}
+
+TEST(MjcfBadInput, JointEquality) {
+  expect_refused(temp_file("coupled.xml", "<mujoco><worldbody><body><joint name=\"a\"/>" + kBody +
+                                          "</body><body><joint name=\"b\"/>" + kBody + "</body></worldbody>"
+                                          "<equality><joint name=\"gear\" joint1=\"a\" joint2=\"b\"/></equality></mujoco>"),
+                 {"equality \"gear\" (joint)"});
+}
+
+TEST(MjcfBadInput, WeldAwayFromItsRelpose) {
+  expect_refused(temp_file("weld.xml", "<mujoco><worldbody><body name=\"a\"><freejoint/>" + kBody +
+                                       "</body><body name=\"b\" pos=\"1 0 0\"><freejoint/>" + kBody + "</body></worldbody>"
+                                       "<equality><weld name=\"w\" body1=\"a\" body2=\"b\" relpose=\"2 0 0 1 0 0 0\"/>"
+                                       "</equality></mujoco>"),
+                 {"equality \"w\" (weld)", "relpose"});
+}
+
+#endif
+
+}  // namespace
+}  // namespace ldlpgs
