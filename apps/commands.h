@@ -20,6 +20,7 @@ Command add_step_command(CLI::App& app);
 Command add_export_command(CLI::App& app);
 Command add_spy_command(CLI::App& app);
 Command add_sweep_command(CLI::App& app);
+Command add_peers_command(CLI::App& app);
 
 // A scene file, or a built-in scene's name (physics/scenes.h); InputError otherwise.
 Mechanism load_mechanism(const std::string& spec);

@@ -1,4 +1,4 @@
-// ldlpgs: the command-line program. Subcommands: order, report, verify, bench, step, export, spy, sweep (ldlpgs SUBCOMMAND --help).
+// ldlpgs: the command-line program. Subcommands: order, report, verify, bench, step, export, spy, sweep, peers (ldlpgs SUBCOMMAND --help).
 // Bad input ends with a one-line message naming the file, line and problem, and exit code 2.
 #include <cstdio>
 #include <map>
@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   add(ldlpgs::cli::add_export_command);
   add(ldlpgs::cli::add_spy_command);
   add(ldlpgs::cli::add_sweep_command);
+  add(ldlpgs::cli::add_peers_command);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

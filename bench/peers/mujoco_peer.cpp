@@ -1,0 +1,359 @@
+// MuJoCo 2.2.2 as a peer in maximal coordinates: every dynamic body a free body (<freejoint/>,
+// its mass and principal inertia at its origin), every static body a body without joints, and
+// the joints as equality constraints: ball = <connect>, weld = <weld>, hinge = two <connect>s
+// on the axis (at the anchor and 0.1 m along it; the pair removes the 5 degrees of freedom a
+// hinge does, with one redundant row along the axis, which MuJoCo's soft constraints absorb).
+// MuJoCo has no prismatic equality. The model is an MJCF string loaded through a temporary
+// file (mj_loadXML), at MuJoCo's hardest settings: Newton solver, 100 iterations, tolerance 0,
+// semi-implicit Euler (as ours), contacts off, every equality solref = (2 timestep, 1) (the
+// stiffest MuJoCo accepts without refsafe off) and solimp (0.9999, 0.9999, 0.001, 0.5, 2).
+//
+// And, where the body graph is a forest, in MuJoCo's own reduced coordinates (run_mujoco_tree):
+// bodies nested from the static ones (the world) or from a free root, each joint a MuJoCo joint
+// of the child (ball, hinge, slide = our prismatic; a weld nests the body with no joint), so the
+// joints cannot separate; the same options, no equality constraints.
+#include <mujoco/mujoco.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "bench/peers/engines.h"
+
+namespace ldlpgs::peers {
+
+namespace {
+
+constexpr double kHingeArm = 0.1;  // m: the second connect's offset along a hinge's axis
+
+struct Connect {
+  int a, b;  // body ids in MuJoCo (world = 0; ours + 1)
+  Eigen::Vector3d on_a, on_b;  // anchors in each body's frame
+};
+
+std::string v3(const Eigen::Vector3d& v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << v.x() << ' ' << v.y() << ' ' << v.z();
+  return s.str();
+}
+
+std::string options(const Mechanism& m) {
+  std::ostringstream x;
+  x.precision(17);
+  x << "<compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
+    << "<option timestep=\"" << m.timestep << "\" gravity=\"" << v3(m.gravity)
+    << "\" integrator=\"Euler\" solver=\"Newton\" iterations=\"100\" tolerance=\"0\">\n"
+    << "<flag contact=\"disable\"/>\n</option>\n";
+  return x.str();
+}
+
+std::string wxyz(const Eigen::Quaterniond& q) {
+  std::ostringstream s;
+  s.precision(17);
+  s << q.w() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z();
+  return s.str();
+}
+
+std::string mjcf(const Mechanism& m, const std::vector<Connect>& connects, int rows) {
+  std::ostringstream x;
+  x.precision(17);
+  std::ostringstream soft;
+  soft.precision(17);
+  soft << "solref=\"" << 2 * m.timestep << " 1\" solimp=\"0.9999 0.9999 0.001 0.5 2\"";
+  const std::string solref = soft.str();
+  x << "<mujoco model=\"peers\">\n" << options(m) << "<size njmax=\"" << rows + 16 << "\" nconmax=\"1\"/>\n"
+    << "<worldbody>\n";
+  for (size_t i = 0; i < m.bodies.size(); ++i) {
+    const RigidBody& b = m.bodies[i];
+    const Eigen::Quaterniond& q = b.orientation;
+    x << "<body name=\"b" << i << "\" pos=\"" << v3(b.position) << "\" quat=\"" << q.w() << ' ' << q.x() << ' '
+      << q.y() << ' ' << q.z() << "\">";
+    if (!b.is_static)
+      x << "<freejoint/><inertial pos=\"0 0 0\" mass=\"" << b.mass << "\" diaginertia=\"" << v3(b.inertia) << "\"/>";
+    x << "</body>\n";
+  }
+  x << "</worldbody>\n<equality>\n";
+  for (const Connect& c : connects)
+    x << "<connect body1=\"b" << c.a - 1 << "\" body2=\"b" << c.b - 1 << "\" anchor=\"" << v3(c.on_a) << "\" "
+      << solref << "/>\n";
+  for (const Constraint& c : m.constraints)
+    if (c.type == ConstraintType::weld)
+      x << "<weld body1=\"b" << c.body_a << "\" body2=\"b" << c.body_b << "\" " << solref << "/>\n";
+  x << "</equality>\n</mujoco>\n";
+  return x.str();
+}
+
+void set_free_velocity(const mjModel* model, mjData* data, int body, const RigidBody& b) {
+  const int dof = model->jnt_dofadr[model->body_jntadr[body]];
+  const Eigen::Vector3d w = b.orientation.conjugate() * b.angular_velocity;
+  for (int k = 0; k < 3; ++k) {
+    data->qvel[dof + k] = b.linear_velocity[k];
+    data->qvel[dof + 3 + k] = w[k];
+  }
+}
+
+// The MJCF through a temporary file (mj_loadXML reads files); nullptr and *error if refused.
+mjModel* load(const std::string& xml, std::string* error) {
+  static std::atomic<int> counter{0};
+  std::string file = "ldlpgs-peers-";
+  file += std::to_string(getpid());
+  file += '-';
+  file += std::to_string(counter++);
+  file += ".xml";
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / file;
+  std::ofstream(path) << xml;
+  char message[1000] = "";
+  mjModel* model = mj_loadXML(path.c_str(), nullptr, message, sizeof message);
+  std::filesystem::remove(path);
+  if (!model) {
+    *error = "MuJoCo refused the model: ";
+    for (const char* c = message; *c; ++c) *error += *c == '\n' ? ' ' : *c;  // one line
+    while (!error->empty() && error->back() == ' ') error->pop_back();
+  }
+  return model;
+}
+
+// Steps round(seconds / timestep) times, recording every body's pose (MuJoCo body id[i] for
+// ours i) in *state and r->positions; r->step_us the median of mj_step alone.
+void step_and_record(const mjModel* model, mjData* data, const Mechanism& m, double seconds,
+                     const std::vector<int>& id, Mechanism* state, PeerResult* r) {
+  mj_forward(model, data);
+  auto read_back = [&] {
+    for (size_t i = 0; i < m.bodies.size(); ++i) {
+      const mjtNum* p = data->xpos + 3 * id[i];
+      const mjtNum* q = data->xquat + 4 * id[i];
+      state->bodies[i].position = Eigen::Vector3d(p[0], p[1], p[2]);
+      state->bodies[i].orientation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+      r->positions.push_back(state->bodies[i].position);
+    }
+  };
+  // mj_kinematics: xpos, xquat of the new qpos (mj_step leaves them one step behind); untimed
+  timed_steps(m, seconds, [&] { mj_step(model, data); }, [&] {
+    mj_kinematics(model, data);
+    read_back();
+  }, r);
+  for (const RigidBody& b : state->bodies) r->finite = r->finite && b.position.allFinite();
+}
+
+}  // namespace
+
+PeerResult run_mujoco(const Mechanism& m, double seconds) {
+  PeerResult r;
+  r.skipped = unsupported(m, {ConstraintType::ball, ConstraintType::hinge, ConstraintType::weld}, "MuJoCo");
+  if (!r.ran()) return r;
+  std::vector<Connect> connects;
+  int rows = 0;
+  for (const Constraint& c : m.constraints) {
+    if (c.type == ConstraintType::weld) {
+      rows += 6;
+      continue;
+    }
+    connects.push_back({c.body_a + 1, c.body_b + 1, c.anchor_a, c.anchor_b});
+    rows += 3;
+    if (c.type == ConstraintType::hinge) {
+      connects.push_back({c.body_a + 1, c.body_b + 1, c.anchor_a + kHingeArm * c.frame_a.col(2),
+                          c.anchor_b + kHingeArm * c.frame_b.col(2)});
+      rows += 3;
+    }
+  }
+  std::string error;
+  mjModel* model = load(mjcf(m, connects, rows), &error);
+  if (!model) {
+    r.skipped = error;
+    return r;
+  }
+  // connect's anchor on body 2 is MuJoCo's eq_data[3..5]; ours, exactly (the compiler derives it
+  // from the initial pose, the same point up to rounding).
+  for (size_t e = 0; e < connects.size(); ++e)
+    for (int k = 0; k < 3; ++k) model->eq_data[e * mjNEQDATA + 3 + k] = connects[e].on_b[k];
+  mjData* data = mj_makeData(model);
+  // initial velocities: a free joint's qvel is the linear velocity (world) then the angular
+  // velocity in the body's own frame
+  for (size_t i = 0; i < m.bodies.size(); ++i)
+    if (!m.bodies[i].is_static) set_free_velocity(model, data, i + 1, m.bodies[i]);
+  std::vector<int> id(m.bodies.size());
+  for (size_t i = 0; i < id.size(); ++i) id[i] = i + 1;
+  Mechanism state = m;
+  step_and_record(model, data, m, seconds, id, &state, &r);
+
+  // MuJoCo's own connect points (its eq_data carried by its xpos, xmat); welds ours, on its poses
+  for (size_t e = 0; e < connects.size(); ++e) {
+    Eigen::Vector3d p[2];
+    for (int j = 0; j < 2; ++j) {
+      const int body = j == 0 ? connects[e].a : connects[e].b;
+      const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> rot(data->xmat + 9 * body);
+      p[j] = Eigen::Map<const Eigen::Vector3d>(data->xpos + 3 * body) +
+             rot * Eigen::Map<const Eigen::Vector3d>(model->eq_data + e * mjNEQDATA + 3 * j);
+    }
+    r.separation = std::max(r.separation, (p[0] - p[1]).norm());
+  }
+  for (const Constraint& c : m.constraints)
+    if (c.type == ConstraintType::weld)
+      r.separation = std::max(r.separation, joint_separation(c, state.bodies[c.body_a], state.bodies[c.body_b]));
+  if (!r.finite) r.separation = std::numeric_limits<double>::infinity();
+  mj_deleteData(data);
+  mj_deleteModel(model);
+  return r;
+}
+
+namespace {
+
+// The forest of the body graph: parent[i] = the body i hangs from (-1: a root; static bodies
+// are roots, and so is one body of each tree that touches none), joint[i] its constraint;
+// children in the order found (breadth first). "" or why the graph is not a forest.
+struct Forest {
+  std::vector<int> parent, joint;
+  std::vector<std::vector<int>> children;
+};
+std::string forest(const Mechanism& m, Forest* f) {
+  const int n = static_cast<int>(m.bodies.size());
+  f->parent.assign(n, -1);
+  f->joint.assign(n, -1);
+  f->children.assign(n, {});
+  std::vector<std::vector<int>> touching(n);  // constraints at each body
+  for (size_t c = 0; c < m.constraints.size(); ++c) {
+    touching[m.constraints[c].body_a].push_back(c);
+    touching[m.constraints[c].body_b].push_back(c);
+  }
+  std::vector<bool> seen(n, false), used(m.constraints.size(), false);
+  std::vector<int> queue;
+  auto grow = [&](int root) {
+    seen[root] = true;
+    queue.assign(1, root);
+    for (size_t q = 0; q < queue.size(); ++q)
+      for (int c : touching[queue[q]]) {
+        if (used[c]) continue;
+        used[c] = true;
+        const Constraint& k = m.constraints[c];
+        const int other = k.body_a == queue[q] ? k.body_b : k.body_a;
+        if (seen[other] || m.bodies[other].is_static) {
+          std::string why = "not a tree: constraint ";
+          why += std::to_string(c);
+          why += " closes a loop";
+          return why;
+        }
+        seen[other] = true;
+        f->parent[other] = queue[q];
+        f->joint[other] = c;
+        f->children[queue[q]].push_back(other);
+        queue.push_back(other);
+      }
+    return std::string();
+  };
+  for (int pass = 0; pass < 2; ++pass)  // static roots first, then free roots
+    for (int i = 0; i < n; ++i)
+      if (!seen[i] && m.bodies[i].is_static == (pass == 0)) {
+        const std::string why = grow(i);
+        if (!why.empty()) return why;
+      }
+  return "";
+}
+
+// One body of the nested MJCF, its children inside it; poses relative to the parent (the world
+// for static bodies and their children, whose static parents are the world too).
+void nest(const Mechanism& m, const Forest& f, int i, std::ostringstream& x) {
+  const RigidBody& b = m.bodies[i];
+  const int p = f.parent[i];
+  const bool in_world = p < 0 || m.bodies[p].is_static;
+  const Eigen::Quaterniond q = in_world ? b.orientation : m.bodies[p].orientation.conjugate() * b.orientation;
+  const Eigen::Vector3d pos =
+      in_world ? b.position : Eigen::Vector3d(m.bodies[p].orientation.conjugate() * (b.position - m.bodies[p].position));
+  x << "<body name=\"b" << i << "\" pos=\"" << v3(pos) << "\" quat=\"" << wxyz(q) << "\">";
+  if (!b.is_static) {
+    if (p < 0) {
+      x << "<freejoint/>";
+    } else {
+      const Constraint& c = m.constraints[f.joint[i]];
+      const bool a_is_child = c.body_a == i;
+      const Eigen::Vector3d anchor = a_is_child ? c.anchor_a : c.anchor_b;
+      const Eigen::Vector3d axis = (a_is_child ? c.frame_a : c.frame_b).col(2);
+      switch (c.type) {
+        case ConstraintType::ball: x << "<joint type=\"ball\" pos=\"" << v3(anchor) << "\"/>"; break;
+        case ConstraintType::hinge:
+          x << "<joint type=\"hinge\" pos=\"" << v3(anchor) << "\" axis=\"" << v3(axis) << "\"/>";
+          break;
+        case ConstraintType::prismatic:
+          x << "<joint type=\"slide\" pos=\"" << v3(anchor) << "\" axis=\"" << v3(axis) << "\"/>";
+          break;
+        default: break;  // weld: nested without a joint
+      }
+    }
+    x << "<inertial pos=\"0 0 0\" mass=\"" << b.mass << "\" diaginertia=\"" << v3(b.inertia) << "\"/>";
+  }
+  x << "\n";
+  if (b.is_static) x << "</body>\n";  // a static body's children sit in the world
+  for (int child : f.children[i]) nest(m, f, child, x);
+  if (!b.is_static) x << "</body>\n";
+}
+
+}  // namespace
+
+PeerResult run_mujoco_tree(const Mechanism& m, double seconds) {
+  PeerResult r;
+  r.skipped = unsupported(m, {ConstraintType::ball, ConstraintType::hinge, ConstraintType::prismatic,
+                              ConstraintType::weld}, "MuJoCo (reduced coordinates)");
+  Forest f;
+  if (r.ran()) r.skipped = forest(m, &f);
+  if (!r.ran()) return r;
+  std::ostringstream x;
+  x.precision(17);
+  x << "<mujoco model=\"peers-tree\">\n" << options(m) << "<worldbody>\n";
+  for (size_t i = 0; i < m.bodies.size(); ++i)
+    if (f.parent[i] < 0) nest(m, f, i, x);
+  x << "</worldbody>\n</mujoco>\n";
+  std::string error;
+  mjModel* model = load(x.str(), &error);
+  if (!model) {
+    r.skipped = error;
+    return r;
+  }
+  mjData* data = mj_makeData(model);
+  std::vector<int> id(m.bodies.size());
+  for (size_t i = 0; i < id.size(); ++i) {
+    std::string name = "b";
+    name += std::to_string(i);
+    id[i] = mj_name2id(model, mjOBJ_BODY, name.c_str());
+  }
+  // initial velocities: free roots as in maximal coordinates; a joint's qvel is the child's
+  // angular velocity relative to its parent (ball: in the child's frame; hinge: about the axis)
+  // or its velocity along the slide
+  for (size_t i = 0; i < m.bodies.size(); ++i) {
+    const RigidBody& b = m.bodies[i];
+    if (b.is_static) continue;
+    if (f.parent[i] < 0) {
+      set_free_velocity(model, data, id[i], b);
+      continue;
+    }
+    const RigidBody& p = m.bodies[f.parent[i]];
+    const Constraint& c = m.constraints[f.joint[i]];
+    if (c.type == ConstraintType::weld) continue;
+    const int dof = model->jnt_dofadr[model->body_jntadr[id[i]]];
+    const Eigen::Vector3d w = b.angular_velocity - p.angular_velocity;
+    const Eigen::Vector3d axis = b.orientation * (c.body_a == static_cast<int>(i) ? c.frame_a : c.frame_b).col(2);
+    if (c.type == ConstraintType::ball) {
+      const Eigen::Vector3d local = b.orientation.conjugate() * w;
+      for (int k = 0; k < 3; ++k) data->qvel[dof + k] = local[k];
+    } else if (c.type == ConstraintType::hinge) {
+      data->qvel[dof] = w.dot(axis);
+    } else {  // slide: the child's velocity relative to the parent's point under its anchor, along the axis
+      const Eigen::Vector3d at = b.position;
+      data->qvel[dof] = (b.linear_velocity - p.linear_velocity - p.angular_velocity.cross(at - p.position)).dot(axis);
+    }
+  }
+  Mechanism state = m;
+  step_and_record(model, data, m, seconds, id, &state, &r);
+  r.separation = joint_separation(state);  // 0 up to rounding: the joints are the coordinates
+  if (!r.finite) r.separation = std::numeric_limits<double>::infinity();
+  mj_deleteData(data);
+  mj_deleteModel(model);
+  return r;
+}
+
+}  // namespace ldlpgs::peers

@@ -1,0 +1,205 @@
+// The table of peer engines, our own solvers as entries of it, and what all engines share: the
+// joint separation from our anchors, the reference run and the trajectory comparison.
+#include "bench/peers/peer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "bench/peers/engines.h"
+#include "physics/step.h"
+
+namespace ldlpgs::peers {
+
+// Without a library, its engine is listed but unavailable (peer_engines) and never run.
+#ifndef LDLPGS_HAVE_ODE
+PeerResult run_ode(const Mechanism&, double, int) { return {}; }
+#endif
+#ifndef LDLPGS_HAVE_BULLET
+PeerResult run_bullet(const Mechanism&, double, int) { return {}; }
+#endif
+#ifndef LDLPGS_HAVE_MUJOCO
+PeerResult run_mujoco(const Mechanism&, double) { return {}; }
+PeerResult run_mujoco_tree(const Mechanism&, double) { return {}; }
+#endif
+
+namespace {
+
+// One of our solvers as a peer: Simulation::step timed whole (J, W, H, the solve, integration).
+PeerResult run_ours(const Mechanism& m, double seconds, SolverKind kind, const std::string& engine) {
+  PeerResult r;
+  r.engine = engine;
+  if (kind == SolverKind::direct)
+    for (size_t i = 0; i < m.constraints.size(); ++i)
+      if (!is_equality(m.constraints[i].type)) {
+        r.skipped = engine + " solves equality constraints only; constraint " + std::to_string(i) + " is of type " +
+                    to_string(m.constraints[i].type);
+        return r;
+      }
+  StepOptions options;
+  options.solver.kind = kind;
+  Simulation sim(m, options);
+  const size_t nb = m.bodies.size();
+  timed_steps(m, seconds, [&] { sim.step(); }, [&] {
+    for (const RigidBody& b : sim.mechanism().bodies) r.positions.push_back(b.position);
+  }, &r);
+  r.separation = joint_separation(sim.mechanism());
+  for (size_t i = r.positions.size() - nb; i < r.positions.size(); ++i) r.finite = r.finite && r.positions[i].allFinite();
+  if (!r.finite) r.separation = std::numeric_limits<double>::infinity();
+  return r;
+}
+
+PeerEngine ours(const char* solver, SolverKind kind) {
+  std::string name = "ldlpgs-";
+  name += solver;
+  return {name, "ldlpgs", true, [kind, name](const Mechanism& m, double s) { return run_ours(m, s, kind, name); }};
+}
+
+#ifdef LDLPGS_HAVE_ODE
+constexpr bool kOde = true;
+#else
+constexpr bool kOde = false;
+#endif
+#ifdef LDLPGS_HAVE_BULLET
+constexpr bool kBullet = true;
+#else
+constexpr bool kBullet = false;
+#endif
+#ifdef LDLPGS_HAVE_MUJOCO
+constexpr bool kMujoco = true;
+#else
+constexpr bool kMujoco = false;
+#endif
+
+PeerEngine ode(int quickstep_iterations) {
+  std::string name = quickstep_iterations ? "ode-quickstep-" : "ode-step";
+  if (quickstep_iterations) name += std::to_string(quickstep_iterations);
+  return {name, "ODE (libode-dev)", kOde, [quickstep_iterations, name](const Mechanism& m, double s) {
+            PeerResult r = run_ode(m, s, quickstep_iterations);
+            r.engine = name;
+            return r;
+          }};
+}
+PeerEngine bullet(int iterations) {
+  std::string name = "bullet-si-";
+  name += std::to_string(iterations);
+  return {name, "Bullet float64 (libbullet-dev)", kBullet, [iterations, name](const Mechanism& m, double s) {
+            PeerResult r = run_bullet(m, s, iterations);
+            r.engine = name;
+            return r;
+          }};
+}
+
+}  // namespace
+
+const std::vector<PeerEngine>& peer_engines() {
+  static const std::vector<PeerEngine> table = {
+      ours("pgs", SolverKind::pgs),
+      ours("block-gs", SolverKind::block_gs),
+      ours("ldl-pgs", SolverKind::ldl_pgs),
+      ours("direct", SolverKind::direct),
+      ode(0),  // ODE's default QuickStep count is 20; 200 is 10x that
+      ode(20),
+      ode(200),
+      bullet(10),  // Bullet's default m_numIterations is 10
+      bullet(100),
+      {"mujoco-maximal", "MuJoCo (libmujoco-dev)", kMujoco,
+       [](const Mechanism& m, double s) {
+         PeerResult r = run_mujoco(m, s);
+         r.engine = "mujoco-maximal";
+         return r;
+       }},
+      {"mujoco-reduced", "MuJoCo (libmujoco-dev)", kMujoco,
+       [](const Mechanism& m, double s) {
+         PeerResult r = run_mujoco_tree(m, s);
+         r.engine = "mujoco-reduced";
+         return r;
+       }},
+  };
+  return table;
+}
+
+const PeerEngine* find_peer(std::string_view name) {
+  for (const PeerEngine& e : peer_engines())
+    if (e.name == name) return &e;
+  return nullptr;
+}
+
+int peer_steps(const Mechanism& m, double seconds) {
+  return static_cast<int>(std::lround(seconds / m.timestep));
+}
+
+std::string unsupported(const Mechanism& m, std::initializer_list<ConstraintType> supported, std::string_view engine) {
+  for (size_t i = 0; i < m.constraints.size(); ++i) {
+    const ConstraintType t = m.constraints[i].type;
+    if (std::find(supported.begin(), supported.end(), t) == supported.end()) {
+      std::string why(engine);
+      why += " cannot express ";
+      why += to_string(t);
+      why += " (constraint ";
+      why += std::to_string(i);
+      why += ")";
+      return why;
+    }
+  }
+  return "";
+}
+
+double joint_separation(const Constraint& c, const RigidBody& a, const RigidBody& b) {
+  const Eigen::Vector3d d = b.to_world(c.anchor_b) - a.to_world(c.anchor_a);
+  switch (c.type) {
+    case ConstraintType::ball:
+    case ConstraintType::hinge:
+    case ConstraintType::weld:
+      return d.norm();
+    case ConstraintType::prismatic:
+    case ConstraintType::cylindrical: {
+      const Eigen::Vector3d n = a.orientation * c.frame_a.col(2);
+      return (d - d.dot(n) * n).norm();
+    }
+    case ConstraintType::rod:
+      return std::abs(d.norm() - c.length);
+    case ConstraintType::rope:
+    case ConstraintType::angular_limit:
+    case ConstraintType::positional_limit:
+      return 0;
+  }
+  return 0;
+}
+
+double joint_separation(const Mechanism& m) {
+  double worst = 0;
+  for (const Constraint& c : m.constraints)
+    worst = std::max(worst, joint_separation(c, m.bodies[c.body_a], m.bodies[c.body_b]));
+  return worst;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+PeerResult reference_run(const Mechanism& m, double seconds) {
+  Mechanism fine = m;
+  fine.timestep = m.timestep / 16;
+  PeerResult r = run_ours(fine, seconds, SolverKind::direct, "reference (ldlpgs-direct, timestep / 16)");
+  return r;
+}
+
+void compare_to(const PeerResult& reference, PeerResult* result) {
+  result->trajectory_error = std::numeric_limits<double>::quiet_NaN();
+  if (!reference.ran() || !result->ran() || result->steps == 0) return;
+  if (!result->finite) {
+    result->trajectory_error = std::numeric_limits<double>::infinity();
+    return;
+  }
+  const size_t nb = result->positions.size() / (result->steps + 1);
+  const int stride = reference.steps / result->steps;  // 16: the same simulated time
+  double worst = 0;
+  for (int s = 0; s <= result->steps; ++s)
+    for (size_t b = 0; b < nb; ++b)
+      worst = std::max(worst, (result->positions[s * nb + b] - reference.positions[s * stride * nb + b]).norm());
+  result->trajectory_error = std::isfinite(worst) ? worst : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace ldlpgs::peers
