@@ -6,10 +6,12 @@ Files of the same scene (repeated runs) are merged: each engine's step time is t
 runs' medians (the errors are deterministic, the same in every run).
 Writes DIR/peers-SCENE.png for each file: log-log, x = median wall time of one whole step (us),
 y = the largest joint separation after the run (left) and the largest distance of any body from
-the reference trajectory (right; our direct solver at a 16x smaller timestep), one point per
-engine and solver. A run that blew up is an 'x' above the plot's data. --table prints the
-markdown table of papers/peers.md on stdout (with the distance from our direct solver at the
-scene's own timestep, direct_same_step_error).
+the reference trajectory (right; our direct solver at a 16x smaller timestep, or, for a scene
+it cannot run, the second reference, MuJoCo's RK4 at that timestep), one point per engine and
+solver. A run that blew up is an 'x' above the plot's data. --table prints the markdown table
+of papers/peers.md on stdout (with the distance from the RK4 reference, rk4_trajectory_error,
+when the files have it, and from our direct solver at the scene's own timestep,
+direct_same_step_error).
 """
 import argparse
 import json
@@ -57,7 +59,10 @@ def plot(data, path):
     rows = [r for r in data["engines"] if "skipped" not in r]
     fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
     draw(left, rows, "separation", "largest joint separation at the end (m)")
-    draw(right, rows, "trajectory_error", "largest distance from the reference (m)")
+    if data.get("reference") or not data.get("rk4_reference"):
+        draw(right, rows, "trajectory_error", "largest distance from the reference (m)")
+    else:
+        draw(right, rows, "rk4_trajectory_error", "largest distance from MuJoCo RK4, dt / 16 (m)")
     right.legend(fontsize=7, loc="best")
     fig.suptitle(f"{data['scene']}: {data['bodies']} bodies, {data['rows']} rows, "
                  f"{data['steps']} steps of {data['timestep']} s")
@@ -75,15 +80,22 @@ def fmt(row, key):
 
 
 def table(files):
-    print("| scene | engine | step (us) | separation (m) | trajectory (m) | vs direct (m) |")
-    print("|---|---|---:|---:|---:|---:|")
+    keys = ["separation", "trajectory_error"]
+    heads = ["separation (m)", "trajectory (m)"]
+    if any("rk4_reference" in data for data in files):  # files written since the RK4 reference
+        keys.append("rk4_trajectory_error")
+        heads.append("vs RK4 (m)")
+    keys.append("direct_same_step_error")
+    heads.append("vs direct (m)")
+    print("| scene | engine | step (us) | " + " | ".join(heads) + " |")
+    print("|---|---|---:|" + "---:|" * len(heads))
     for data in files:
         for r in data["engines"]:
             if "skipped" in r:
-                print(f"| {data['scene']} | {r['engine']} | skipped: {r['skipped']} | | | |")
+                print(f"| {data['scene']} | {r['engine']} | skipped: {r['skipped']} |" + " |" * len(heads))
             else:
-                print(f"| {data['scene']} | {r['engine']} | {r['step_us']:.1f} | {fmt(r, 'separation')} | "
-                      f"{fmt(r, 'trajectory_error')} | {fmt(r, 'direct_same_step_error')} |")
+                cells = " | ".join(fmt(r, k) for k in keys)
+                print(f"| {data['scene']} | {r['engine']} | {r['step_us']:.1f} | {cells} |")
 
 
 def merge(runs):

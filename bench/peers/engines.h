@@ -1,6 +1,8 @@
 #pragma once
 // The engines' entry points, each in its own file and compiled only with its library
 // (LDLPGS_HAVE_ODE, LDLPGS_HAVE_BULLET, LDLPGS_HAVE_MUJOCO); peer.cpp puts them in the table.
+#include <string>
+
 #include "bench/peers/peer.h"
 
 namespace ldlpgs::peers {
@@ -9,6 +11,10 @@ namespace ldlpgs::peers {
 PeerResult run_ode(const Mechanism& m, double seconds, int quickstep_iterations);
 PeerResult run_bullet(const Mechanism& m, double seconds, int iterations);
 PeerResult run_mujoco(const Mechanism& m, double seconds);
-PeerResult run_mujoco_tree(const Mechanism& m, double seconds);  // reduced coordinates; forests only
+// Reduced coordinates; forests only. rk4: MuJoCo's RK4 at timestep / 16 (the tree reference).
+PeerResult run_mujoco_tree(const Mechanism& m, double seconds, bool rk4 = false);
+// The MJCF file `path` that `m` was loaded from (physics/mjcf.h), stepped by MuJoCo itself with
+// contacts, springs, damping, armature, friction loss and actuators off; rk4 as above.
+PeerResult run_mujoco_mjcf(const std::string& path, const Mechanism& m, double seconds, bool rk4 = false);
 
 }  // namespace ldlpgs::peers

@@ -11,7 +11,15 @@
 // And, where the body graph is a forest, in MuJoCo's own reduced coordinates (run_mujoco_tree):
 // bodies nested from the static ones (the world) or from a free root, each joint a MuJoCo joint
 // of the child (ball, hinge, slide = our prismatic; a weld nests the body with no joint), so the
-// joints cannot separate; the same options, no equality constraints.
+// joints cannot separate; the same options, no equality constraints. With rk4, MuJoCo's RK4
+// (mjINT_RK4) at timestep / 16: the second reference trajectory, for trees (peer.h).
+//
+// And, for a scene read from an MJCF file, that file itself (run_mujoco_mjcf): MuJoCo's own
+// model in its reduced coordinates, with what physics/mjcf.h drops turned off here too, so both
+// step the same mechanism: contacts, passive forces (springs, damping), actuation and friction
+// loss disabled (opt.disableflags), damping, stiffness, armature and friction loss zeroed (the
+// Euler integrator's implicit damping reads dof_damping, not the flags). Its bodies are ours
+// with the same index (physics/mjcf.h), our centres of mass its xipos.
 #include <mujoco/mujoco.h>
 
 #include <unistd.h>
@@ -44,12 +52,12 @@ std::string v3(const Eigen::Vector3d& v) {
   return s.str();
 }
 
-std::string options(const Mechanism& m) {
+std::string options(const Mechanism& m, const char* integrator = "Euler") {
   std::ostringstream x;
   x.precision(17);
   x << "<compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
     << "<option timestep=\"" << m.timestep << "\" gravity=\"" << v3(m.gravity)
-    << "\" integrator=\"Euler\" solver=\"Newton\" iterations=\"100\" tolerance=\"0\">\n"
+    << "\" integrator=\"" << integrator << "\" solver=\"Newton\" iterations=\"100\" tolerance=\"0\">\n"
     << "<flag contact=\"disable\"/>\n</option>\n";
   return x.str();
 }
@@ -121,20 +129,22 @@ mjModel* load(const std::string& xml, std::string* error) {
 }
 
 // Steps round(seconds / timestep) times, recording every body's pose (MuJoCo body id[i] for
-// ours i) in *state and r->positions; r->step_us the median of mj_step alone.
+// ours i: its inertial frame, xipos and ximat, which is the body frame in the models built here)
+// in *state and r->positions; r->step_us the median of mj_step alone.
 void step_and_record(const mjModel* model, mjData* data, const Mechanism& m, double seconds,
                      const std::vector<int>& id, Mechanism* state, PeerResult* r) {
   mj_forward(model, data);
   auto read_back = [&] {
     for (size_t i = 0; i < m.bodies.size(); ++i) {
-      const mjtNum* p = data->xpos + 3 * id[i];
-      const mjtNum* q = data->xquat + 4 * id[i];
+      const mjtNum* p = data->xipos + 3 * id[i];
+      mjtNum q[4];
+      mju_mat2Quat(q, data->ximat + 9 * id[i]);
       state->bodies[i].position = Eigen::Vector3d(p[0], p[1], p[2]);
       state->bodies[i].orientation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
       r->positions.push_back(state->bodies[i].position);
     }
   };
-  // mj_kinematics: xpos, xquat of the new qpos (mj_step leaves them one step behind); untimed
+  // mj_kinematics: xipos, ximat of the new qpos (mj_step leaves them one step behind); untimed
   timed_steps(m, seconds, [&] { mj_step(model, data); }, [&] {
     mj_kinematics(model, data);
     read_back();
@@ -295,7 +305,9 @@ void nest(const Mechanism& m, const Forest& f, int i, std::ostringstream& x) {
 
 }  // namespace
 
-PeerResult run_mujoco_tree(const Mechanism& m, double seconds) {
+PeerResult run_mujoco_tree(const Mechanism& scene, double seconds, bool rk4) {
+  Mechanism m = scene;
+  if (rk4) m.timestep /= 16;
   PeerResult r;
   r.skipped = unsupported(m, {ConstraintType::ball, ConstraintType::hinge, ConstraintType::prismatic,
                               ConstraintType::weld}, "MuJoCo (reduced coordinates)");
@@ -304,7 +316,7 @@ PeerResult run_mujoco_tree(const Mechanism& m, double seconds) {
   if (!r.ran()) return r;
   std::ostringstream x;
   x.precision(17);
-  x << "<mujoco model=\"peers-tree\">\n" << options(m) << "<worldbody>\n";
+  x << "<mujoco model=\"peers-tree\">\n" << options(m, rk4 ? "RK4" : "Euler") << "<worldbody>\n";
   for (size_t i = 0; i < m.bodies.size(); ++i)
     if (f.parent[i] < 0) nest(m, f, i, x);
   x << "</worldbody>\n</mujoco>\n";
@@ -350,6 +362,45 @@ PeerResult run_mujoco_tree(const Mechanism& m, double seconds) {
   Mechanism state = m;
   step_and_record(model, data, m, seconds, id, &state, &r);
   r.separation = joint_separation(state);  // 0 up to rounding: the joints are the coordinates
+  if (!r.finite) r.separation = std::numeric_limits<double>::infinity();
+  mj_deleteData(data);
+  mj_deleteModel(model);
+  return r;
+}
+
+PeerResult run_mujoco_mjcf(const std::string& path, const Mechanism& scene, double seconds, bool rk4) {
+  PeerResult r;
+  char message[1000] = "";
+  mjModel* model = mj_loadXML(path.c_str(), nullptr, message, sizeof message);
+  if (!model) {
+    r.skipped = "MuJoCo refused ";
+    r.skipped += path;
+    return r;
+  }
+  if (model->nbody != static_cast<int>(scene.bodies.size())) {
+    r.skipped = path;
+    r.skipped += " is not this scene (its body count differs)";
+    mj_deleteModel(model);
+    return r;
+  }
+  model->opt.disableflags |= mjDSBL_CONTACT | mjDSBL_PASSIVE | mjDSBL_ACTUATION | mjDSBL_FRICTIONLOSS;
+  for (int j = 0; j < model->njnt; ++j) model->jnt_stiffness[j] = 0;
+  for (int d = 0; d < model->nv; ++d) model->dof_damping[d] = model->dof_armature[d] = model->dof_frictionloss[d] = 0;
+  Mechanism m = scene;
+  if (rk4) {
+    m.timestep /= 16;
+    model->opt.integrator = mjINT_RK4;
+  }
+  model->opt.timestep = m.timestep;
+  for (int k = 0; k < 3; ++k) model->opt.gravity[k] = m.gravity[k];  // 0 if the file disabled it
+  mjData* data = mj_makeData(model);
+  std::vector<int> id(m.bodies.size());
+  for (size_t i = 0; i < id.size(); ++i) id[i] = i;
+  Mechanism state = m;
+  step_and_record(model, data, m, seconds, id, &state, &r);
+  // our anchors on MuJoCo's poses: its joints are its coordinates, so this reads back rounding
+  // (and, with limits or equalities, how far its soft constraints let them give)
+  r.separation = joint_separation(state);
   if (!r.finite) r.separation = std::numeric_limits<double>::infinity();
   mj_deleteData(data);
   mj_deleteModel(model);

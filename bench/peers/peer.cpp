@@ -19,7 +19,8 @@ PeerResult run_bullet(const Mechanism&, double, int) { return {}; }
 #endif
 #ifndef LDLPGS_HAVE_MUJOCO
 PeerResult run_mujoco(const Mechanism&, double) { return {}; }
-PeerResult run_mujoco_tree(const Mechanism&, double) { return {}; }
+PeerResult run_mujoco_tree(const Mechanism&, double, bool) { return {}; }
+PeerResult run_mujoco_mjcf(const std::string&, const Mechanism&, double, bool) { return {}; }
 #endif
 
 namespace {
@@ -124,6 +125,14 @@ const PeerEngine* find_peer(std::string_view name) {
   return nullptr;
 }
 
+PeerEngine mjcf_peer(const std::string& path) {
+  return {"mujoco-mjcf", "MuJoCo (libmujoco-dev)", kMujoco, [path](const Mechanism& m, double s) {
+            PeerResult r = run_mujoco_mjcf(path, m, s);
+            r.engine = "mujoco-mjcf";
+            return r;
+          }};
+}
+
 int peer_steps(const Mechanism& m, double seconds) {
   return static_cast<int>(std::lround(seconds / m.timestep));
 }
@@ -183,6 +192,20 @@ PeerResult reference_run(const Mechanism& m, double seconds) {
   Mechanism fine = m;
   fine.timestep = m.timestep / 16;
   PeerResult r = run_ours(fine, seconds, SolverKind::direct, "reference (ldlpgs-direct, timestep / 16)");
+  return r;
+}
+
+PeerResult rk4_reference_run(const Mechanism& m, double seconds, const std::string& mjcf_path) {
+  PeerResult r;
+  if (!kMujoco) {
+    r.skipped = "MuJoCo (libmujoco-dev) is not installed";
+  } else if (!mjcf_path.empty()) {
+    r = run_mujoco_mjcf(mjcf_path, m, seconds, true);
+    r.engine = "MuJoCo RK4 on the MJCF file, timestep / 16";
+  } else {
+    r = run_mujoco_tree(m, seconds, true);
+    r.engine = "MuJoCo RK4 in reduced coordinates, timestep / 16";
+  }
   return r;
 }
 

@@ -3,7 +3,8 @@
 // and MuJoCo, and stepped with each of our solvers, collisions off, the scene's gravity and
 // timestep; for each, the median wall time of one whole step, the largest joint separation after
 // a fixed simulated time (read back from the engine), and every body's trajectory against a
-// reference (our direct solver at a 16x smaller timestep).
+// reference (our direct solver at a 16x smaller timestep; for trees also MuJoCo's reduced-
+// coordinate RK4 at that timestep).
 //
 // One interface, one file per engine, a table chosen by name (as the orderings are):
 //   ldlpgs-pgs, ldlpgs-block-gs, ldlpgs-ldl-pgs, ldlpgs-direct   ours (peer.cpp), 10 iterations
@@ -11,6 +12,8 @@
 //   bullet-si-10, bullet-si-100                                  bullet_peer.cpp (sequential impulse)
 //   mujoco-maximal, mujoco-reduced                               mujoco_peer.cpp (free bodies + equalities;
 //                                                                the joints as coordinates, trees only)
+//   mujoco-mjcf                                                  mujoco_peer.cpp: an MJCF scene's own file
+//                                                                in MuJoCo (mjcf_peer; not in the table)
 // An engine built without its library is listed but not available; a scene holding a constraint
 // an engine cannot express is skipped by that engine, which says which constraint.
 #include <chrono>
@@ -51,6 +54,10 @@ struct PeerEngine {
 
 const std::vector<PeerEngine>& peer_engines();
 const PeerEngine* find_peer(std::string_view name);  // nullptr if none has that name
+// For a scene loaded from the MJCF file `path` (physics/mjcf.h): "mujoco-mjcf", MuJoCo stepping
+// that file in its own reduced coordinates with what the conversion drops turned off (contacts,
+// springs, damping, armature, friction loss, actuators); the natural MuJoCo peer of a real model.
+PeerEngine mjcf_peer(const std::string& path);
 
 // --- shared by the engines ---
 int peer_steps(const Mechanism& m, double seconds);
@@ -85,6 +92,12 @@ void timed_steps(const Mechanism& m, double seconds, Step step, ReadBack read_ba
 // Our direct solver at timestep / 16 for the same simulated time (the reference trajectory);
 // skipped when the scene has inequality constraints (direct solves equalities only).
 PeerResult reference_run(const Mechanism& m, double seconds);
+// The second reference, where the mechanism is a tree: MuJoCo's RK4 in reduced coordinates at
+// timestep / 16, on the MJCF file itself if `mjcf_path` is not empty (mjcf_peer), else on the
+// tree built from the mechanism (mujoco-reduced); skipped (with why) for a loop, a constraint
+// reduced coordinates cannot express, or without MuJoCo. Direct at timestep / 16 is first order
+// in the timestep; RK4 is fourth order: their difference is direct's discretization error.
+PeerResult rk4_reference_run(const Mechanism& m, double seconds, const std::string& mjcf_path = "");
 // Sets result->trajectory_error: the largest distance between a body's centre of mass and the
 // reference's at the same simulated time, over every body and every step (NaN if either did not
 // run, infinity if the result is not finite).
