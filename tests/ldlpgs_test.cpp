@@ -598,14 +598,16 @@ TEST(LdlpgsReport, WritesTheReportDirectory) {
   std::filesystem::create_directories(matrices);
   std::filesystem::copy_file(kMatrices + "/bcsstk01.mtx", matrices + "/bcsstk01.mtx",
                              std::filesystem::copy_options::overwrite_existing);
-  const Result r = run("report --sizes 12 --matrices " + matrices + " --out " + dir + " --no-figures");
+  const Result r = run("report --sizes 12 --cases chain-10,four-bar --matrices " + matrices + " --out " + dir +
+                       " --no-figures");
   ASSERT_EQ(r.code, 0) << r.err;
   std::ifstream in(dir + "/index.md");
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string index = ss.str();
   for (const char* section : {"## 1. Orderings", "## 2. The block LDL^T against CHOLMOD", "## 3. The talk's figures",
-                              "## 4. Speed against error", "## 5. Where each solver breaks", "bcsstk01.mtx", "chain-12"})
+                              "## 4. Speed against error", "## 5. Where each solver breaks", "bcsstk01.mtx", "chain-12",
+                              "| four-bar | ldl-pgs |"})
     EXPECT_NE(index.find(section), std::string::npos) << section;
   EXPECT_NE(r.err.find("report [5/5]"), std::string::npos) << "no progress line: " << r.err;
   std::ifstream sweep(dir + "/sweep.json");
@@ -615,6 +617,10 @@ TEST(LdlpgsReport, WritesTheReportDirectory) {
 TEST(LdlpgsBadInput, SweepUnknownScene) { expect_input_error("sweep --cases no-such-scene", {"no-such-scene"}); }
 
 TEST(LdlpgsBadInput, SweepZeroIterations) { expect_input_error("sweep --cases chain-10 --iterations 0", {"--iterations"}); }
+
+TEST(LdlpgsBadInput, ReportUnknownCase) {
+  expect_input_error("report --sizes 12 --cases no-such-scene --no-figures --out " + temp_path("r"), {"no-such-scene"});
+}
 
 TEST(LdlpgsBadInput, ReportUnwritableDirectory) {
   expect_input_error("report --sizes 12 --out /proc/no-such-report --no-figures", {"/proc/no-such-report"});
