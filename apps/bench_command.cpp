@@ -9,10 +9,12 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "apps/commands.h"
 #include "apps/compare.h"
 #include "bench/ldlpgs_solver.h"
+#include "bench/median.h"
 
 namespace ldlpgs::cli {
 
@@ -35,8 +37,7 @@ double median_us(F&& f) {
     us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count());
     total += us.back();
   }
-  std::nth_element(us.begin(), us.begin() + us.size() / 2, us.end());
-  return us[us.size() / 2];
+  return median(std::move(us));
 }
 
 Timing time_solver(DirectSolver& s, const SymmetricCsc& a) {

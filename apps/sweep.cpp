@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "apps/commands.h"
+#include "bench/median.h"
 #include "physics/step.h"
 
 namespace ldlpgs::cli {
@@ -26,19 +27,6 @@ std::vector<int> sweep_iterations(bool full) {
   if (!full) return {1, 4, 16, 64};
   return {1, 2, 4, 8, 16, 32, 64, 128};
 }
-
-namespace {
-
-bool has_inequalities(const Mechanism& m) {
-  return std::any_of(m.constraints.begin(), m.constraints.end(), [](const Constraint& c) { return !is_equality(c.type); });
-}
-
-double median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
 
 double blow_up_energy(const Mechanism& m) {
   double mass = 0, kinetic = 0;
@@ -98,7 +86,7 @@ std::vector<SweepPoint> speed_vs_error(const std::vector<std::string>& cases, co
     const Mechanism m = load_mechanism(scene);
     for (const char* solver : {"pgs", "block-gs", "ldl-pgs"})
       for (int it : iterations) points.push_back(run_case(m, scene, solver, it, seconds));
-    if (!has_inequalities(m)) points.push_back(run_case(m, scene, "direct", 1, seconds));
+    if (m.first_inequality() < 0) points.push_back(run_case(m, scene, "direct", 1, seconds));
   }
   return points;
 }
@@ -132,7 +120,7 @@ std::vector<Breakdown> stability(const std::vector<std::string>& cases, int iter
     Mechanism base = load_mechanism(scene);
     base.timestep = std::min(base.timestep, 0.0025);  // below the integrator's own centimetre (papers/physics.md)
     std::vector<std::string> solvers = {"pgs", "block-gs", "ldl-pgs"};
-    if (!has_inequalities(base)) solvers.push_back("direct");
+    if (base.first_inequality() < 0) solvers.push_back("direct");
     for (const std::string& solver : solvers) {
       Breakdown b{scene, solver, solver == "direct" ? 1 : iterations, 0, 0, ""};
       // the load made 10^k times heavier, k = 0..9: the mass ratios the scene reaches from its own

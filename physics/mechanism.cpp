@@ -34,6 +34,12 @@ int Mechanism::num_rows() const {
   return rows;
 }
 
+int Mechanism::first_inequality() const {
+  for (size_t c = 0; c < constraints.size(); ++c)
+    if (!is_equality(constraints[c].type)) return static_cast<int>(c);
+  return -1;
+}
+
 int Mechanism::num_dynamic_bodies() const {
   int n = 0;
   for (const RigidBody& b : bodies) n += b.is_static ? 0 : 1;

@@ -28,6 +28,8 @@ struct Mechanism {
   int add_constraint(Constraint constraint);         // returns its index
   int num_rows() const;                              // sum of the constraints' rows
   int num_dynamic_bodies() const;
+  // The first limit or rope (an inequality row: the direct solver does not take it), -1 if none.
+  int first_inequality() const;
 
   // Blocks = constraints (sizes = their rows), adjacency = a shared dynamic body. `equality_only`
   // keeps only the equality constraints (the block ldl-pgs factors), renumbered in order.

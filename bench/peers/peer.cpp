@@ -29,13 +29,11 @@ namespace {
 PeerResult run_ours(const Mechanism& m, double seconds, SolverKind kind, const std::string& engine) {
   PeerResult r;
   r.engine = engine;
-  if (kind == SolverKind::direct)
-    for (size_t i = 0; i < m.constraints.size(); ++i)
-      if (!is_equality(m.constraints[i].type)) {
-        r.skipped = engine + " solves equality constraints only; constraint " + std::to_string(i) + " is of type " +
-                    to_string(m.constraints[i].type);
-        return r;
-      }
+  if (const int i = m.first_inequality(); kind == SolverKind::direct && i >= 0) {
+    r.skipped = engine + " solves equality constraints only; constraint " + std::to_string(i) + " is of type " +
+                to_string(m.constraints[i].type);
+    return r;
+  }
   StepOptions options;
   options.solver.kind = kind;
   Simulation sim(m, options);
@@ -180,12 +178,6 @@ double joint_separation(const Mechanism& m) {
   for (const Constraint& c : m.constraints)
     worst = std::max(worst, joint_separation(c, m.bodies[c.body_a], m.bodies[c.body_b]));
   return worst;
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 PeerResult reference_run(const Mechanism& m, double seconds) {

@@ -26,6 +26,7 @@
 
 #include <Eigen/Core>
 
+#include "bench/median.h"
 #include "physics/mechanism.h"
 
 namespace ldlpgs::peers {
@@ -68,7 +69,6 @@ std::string unsupported(const Mechanism& m, std::initializer_list<ConstraintType
 // distance across the axis; rod: the change of length; inequalities: 0 (not joints).
 double joint_separation(const Constraint& c, const RigidBody& a, const RigidBody& b);
 double joint_separation(const Mechanism& m);  // the largest over the constraints
-double median(std::vector<double> v);
 
 // The measuring loop every engine shares: read_back() records the initial pose, then `steps`
 // times step() (timed alone: whole steps, not the read-back) and read_back(); r->step_us is the
