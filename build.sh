@@ -37,7 +37,7 @@ build() {
   # their reports, and no benchmarks, since timings under ASan mean nothing.
   local sanitize=OFF bench=ON type=Release
   if [ "${SANITIZE:-0}" = 1 ]; then sanitize=ON; bench=OFF; type=RelWithDebInfo; fi
-  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=$type -DLDLPGS_SANITIZE=$sanitize -DLDLPGS_BUILD_BENCH=$bench
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=$type -DLDLPGS_SANITIZE=$sanitize -DLDLPGS_BUILD_BENCH=$bench -DLDLPGS_REQUIRE_PEERS=ON
   cmake --build "$dir" -j "${JOBS:-$(nproc)}"
 }
 

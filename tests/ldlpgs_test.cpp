@@ -653,17 +653,14 @@ TEST(LdlpgsBadInput, SpySceneWithoutEqualityConstraints) {
 }
 
 // MJCF models (physics/mjcf.h): step and export load them by their .xml extension, and say once
-// on stderr what was dropped. Whether the program was built with MuJoCo is asked of it.
+// on stderr what was dropped. Built with MuJoCo (build.sh requires it and libmujoco-samples'
+// models), or refusing every MJCF file without it.
+#ifdef LDLPGS_HAVE_MUJOCO
+
 const std::string kHumanoid = "/usr/share/mujoco/model/humanoid/humanoid.xml";
 
-bool program_reads_mjcf() {
-  static const bool reads = run("step /nonexistent/model.xml").err.find("need MuJoCo") == std::string::npos;
-  return reads;
-}
-
 TEST(LdlpgsStep, MjcfHumanoid) {
-  if (!program_reads_mjcf()) GTEST_SKIP() << "built without MuJoCo";
-  if (!std::filesystem::exists(kHumanoid)) GTEST_SKIP() << kHumanoid << " missing (libmujoco-samples)";
+  ASSERT_TRUE(std::filesystem::exists(kHumanoid)) << kHumanoid << " missing (libmujoco-samples)";
   const Result r = run("step " + kHumanoid + " --no-shatter --steps 50 --json");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line of what was dropped: " << r.err;
@@ -674,8 +671,7 @@ TEST(LdlpgsStep, MjcfHumanoid) {
 }
 
 TEST(LdlpgsExport, MjcfHumanoid) {
-  if (!program_reads_mjcf()) GTEST_SKIP() << "built without MuJoCo";
-  if (!std::filesystem::exists(kHumanoid)) GTEST_SKIP() << kHumanoid << " missing (libmujoco-samples)";
+  ASSERT_TRUE(std::filesystem::exists(kHumanoid)) << kHumanoid << " missing (libmujoco-samples)";
   const std::string mtx = temp_path("humanoid.mtx"), blocks = temp_path("humanoid.blocks");
   const Result r = run("export " + kHumanoid + " --no-shatter --matrix " + mtx + " --blocks " + blocks);
   ASSERT_EQ(r.code, 0) << r.err;
@@ -686,17 +682,22 @@ TEST(LdlpgsExport, MjcfHumanoid) {
 TEST(LdlpgsBadInput, StepMjcfWithAConstructWeCannotRepresent) {
   const std::string path = temp_file("slides.xml", R"(<mujoco><worldbody><body name="box"><joint type="slide" axis="1 0 0"/>
     <joint type="slide" axis="0 1 0"/><geom size=".1"/></body></worldbody></mujoco>)");
-  if (program_reads_mjcf())
-    expect_input_error("step " + path, {"slides.xml", "body \"box\"", "2 slides"});
-  else
-    expect_input_error("step " + path, {"slides.xml", "need MuJoCo"});
+  expect_input_error("step " + path, {"slides.xml", "body \"box\"", "2 slides"});
 }
 
 TEST(LdlpgsBadInput, ExportUnparsableMjcf) {
   const std::string path = temp_file("broken.xml", "<mujoco><worldbody>");
-  expect_input_error("export " + path + " --matrix x.mtx --blocks x.blocks",
-                     {"broken.xml", program_reads_mjcf() ? "MuJoCo cannot load it" : "need MuJoCo"});
+  expect_input_error("export " + path + " --matrix x.mtx --blocks x.blocks", {"broken.xml", "MuJoCo cannot load it"});
 }
+
+#else
+
+TEST(LdlpgsBadInput, MjcfWithoutMuJoCo) {
+  const std::string path = temp_file("model.xml", "<mujoco/>");
+  expect_input_error("step " + path, {"model.xml", "need MuJoCo"});
+}
+
+#endif
 
 }  // namespace
 }  // namespace ldlpgs
