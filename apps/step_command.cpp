@@ -42,7 +42,9 @@ namespace {
 
 struct StepArgs {
   std::string scene, solver = "ldl-pgs", ordering = "meca", trace;
-  int iterations = 10, steps = 200;
+  std::string schedule = to_string(SolverOptions{}.schedule);
+  int iterations = 10, steps = 200, post_stabilize = StepOptions{}.post_stabilize;
+  bool post_stabilize_refactor = false;
   double timestep = 0, compliance = StepOptions{}.compliance, baumgarte = StepOptions{}.baumgarte;
   bool json = false;
   ShatterArgs shatter;
@@ -55,7 +57,14 @@ StepOptions step_options(const StepArgs& a) {
     for (const char* name : solver_names()) known = known + " " + name;
     throw InputError("--solver " + a.solver + ": unknown solver (known:" + known + ")");
   }
+  if (!hybrid_schedule_from_string(a.schedule, &o.solver.schedule)) {
+    std::string known;
+    for (const char* name : hybrid_schedule_names()) known = known + " " + name;
+    throw InputError("--schedule " + a.schedule + ": unknown schedule (known:" + known + ")");
+  }
   if (a.iterations < 1) throw InputError("--iterations must be at least 1");
+  if (a.post_stabilize < 0 && a.post_stabilize != StepOptions::kAutoPostStabilize)
+    throw InputError("--post-stabilize must be >= 0 iterations (0: off; default: 8 with ldl-pgs and direct, 0 with pgs and block-gs)");
   if (!(a.compliance >= 0) || !std::isfinite(a.compliance)) throw InputError("--compliance must be finite and >= 0");
   if (!(a.baumgarte >= 0 && a.baumgarte <= 1)) throw InputError("--baumgarte must be in [0, 1]");
   find_ordering(a.ordering);  // throws on an unknown name
@@ -63,6 +72,9 @@ StepOptions step_options(const StepArgs& a) {
   o.solver.ordering = a.ordering;
   o.compliance = a.compliance;
   o.baumgarte = a.baumgarte;
+  o.post_stabilize = a.post_stabilize;
+  o.post_stabilize_refactor = a.post_stabilize_refactor;
+  o.diagnostics = true;
   return o;
 }
 
@@ -102,13 +114,17 @@ int run_step(const StepArgs& a) {
   const ConstraintError error_initial = constraint_error(m);
   Simulation sim(std::move(m), options);
   if (trace.is_open()) write_trace_rows(trace, 0, sim, original, shattered);
-  std::vector<double> solve_us;
+  std::vector<double> solve_us, step_us, post_us;
   StepReport worst;  // maxima over the steps
+  int64_t post_iterations = 0;
   int failed = 0;
   std::string failure;
   for (int s = 1; s <= a.steps; ++s) {
     const StepReport r = sim.step();
     solve_us.push_back(r.solve_us);
+    step_us.push_back(r.step_us);
+    post_us.push_back(r.post_stabilize_us);
+    post_iterations += r.post_stabilize_iterations;
     worst.solve_us = std::max(worst.solve_us, r.solve_us);
     worst.error.position_max = std::max(worst.error.position_max, r.error.position_max);
     worst.error.angular_max = std::max(worst.error.angular_max, r.error.angular_max);
@@ -133,8 +149,15 @@ int run_step(const StepArgs& a) {
                         {"solver", a.solver},
                         {"iterations", a.iterations},
                         {"compliance", options.compliance},
+                        {"schedule", a.schedule},
+                        {"post_stabilize", sim.options().post_stabilize},
+                        {"post_stabilize_refactor", a.post_stabilize_refactor},
+                        {"post_stabilize_iterations", post_iterations},
+                        {"post_stabilize_skipped", sim.post_stabilize_skipped()},
                         {"solve_us_median", median(solve_us)},
                         {"solve_us_max", worst.solve_us},
+                        {"post_stabilize_us_median", median(post_us)},
+                        {"step_us_median", median(step_us)},
                         {"position_error_max", worst.error.position_max},
                         {"position_error_rms_max", worst.error.position_rms},
                         {"angular_error_max", worst.error.angular_max},
@@ -153,6 +176,10 @@ int run_step(const StepArgs& a) {
       std::printf("shattering            %d split, %d welds added (block LDL^T flops %.0f -> %.0f)\n",
                   shattered.shattered_bodies, shattered.welds, shattered.flops_before, shattered.flops_after);
     std::printf("solve time per step   median %10.1f us   max %10.1f us\n", median(solve_us), worst.solve_us);
+    std::printf("post-stabilization    median %10.1f us   (%d iterations per step%s, %lld in all, %d steps skipped)\n",
+                median(post_us), sim.options().post_stabilize, a.post_stabilize_refactor ? ", refactored" : "",
+                static_cast<long long>(post_iterations), sim.post_stabilize_skipped());
+    std::printf("whole step            median %10.1f us\n", median(step_us));
     std::printf("position error        max %12.3e m     (worst step rms %.3e m)\n", worst.error.position_max,
                 worst.error.position_rms);
     std::printf("angular error         max %12.3e rad   (worst step rms %.3e rad)\n", worst.error.angular_max,
@@ -178,6 +205,13 @@ Command add_step_command(CLI::App& app) {
   cmd->add_option("--ordering", a->ordering, "Ordering of H's blocks (ldl-pgs, direct)")->capture_default_str();
   cmd->add_option("--compliance", a->compliance, "eps of the compliance eps diag(H)")->capture_default_str();
   cmd->add_option("--baumgarte", a->baumgarte, "Fraction of the position error corrected per step")->capture_default_str();
+  cmd->add_option("--schedule", a->schedule, "ldl-pgs with inequality rows: talk, inequality-pgs or block-gs")
+      ->capture_default_str();
+  cmd->add_option("--post-stabilize", a->post_stabilize,
+                  "At most this many position projection iterations per step on the step's own factor (0: off; "
+                  "default 8 with ldl-pgs and direct, 0 with pgs and block-gs)");
+  cmd->add_flag("--post-stabilize-refactor", a->post_stabilize_refactor,
+                "Refactor at the corrected pose in each post-stabilization iteration (Newton)");
   cmd->add_option("--trace", a->trace, "Write per step and body: step,time,body,x,y,z,qw,qx,qy,qz (CSV)");
   cmd->add_flag("--json", a->json, "Print one JSON object");
   add_shatter_options(cmd, &a->shatter);

@@ -52,6 +52,7 @@ SweepPoint run_case(const Mechanism& m, const std::string& scene, const std::str
   assert(known && "sweep solvers are the program's own names");
   (void)known;
   options.solver.iterations = p.iterations;
+  options.diagnostics = true;
   const double energy0 = total_energy(m), limit = blow_up_energy(m);
   Simulation sim(m, options);
   const int steps = std::max(1, static_cast<int>(std::lround(seconds / m.timestep)));

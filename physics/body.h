@@ -18,6 +18,10 @@ struct RigidBody {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // body -> world, unit
   Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();  // world (m/s)
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero(); // world (rad/s)
+  // A constant external load besides gravity, applied every step (scene files' "force" and
+  // "torque"): a force through the centre of mass (N) and a torque (N m), world frame.
+  Eigen::Vector3d applied_force = Eigen::Vector3d::Zero();
+  Eigen::Vector3d applied_torque = Eigen::Vector3d::Zero();
 
   // World-frame inverse inertia R diag(1/I) R^T (zero for a static body).
   Eigen::Matrix3d inverse_inertia_world() const;

@@ -2,7 +2,11 @@
 #include "physics/step.h"
 
 #include <cassert>
+#include <chrono>
 #include <cmath>
+#include <string>
+
+#include "sparse/error.h"
 
 namespace ldlpgs {
 
@@ -50,40 +54,79 @@ double total_energy(const Mechanism& m) {
   return e;
 }
 
-System build_system(const Mechanism& m, const StepOptions& options) {
-  const std::vector<int> column = body_columns(m);
-  const double dt = m.timestep;
+namespace {
+
+// The structure of the step's System: one block per constraint in order, inequality blocks
+// bounded below by 0. Values are written by write_velocity_system.
+System system_structure(const Mechanism& m, const std::vector<int>& column) {
   System s;
   s.num_columns = m.num_dynamic_bodies();
   s.inverse_mass.assign(36 * static_cast<size_t>(s.num_columns), 0.0);
-  // V0 + W F dt per column (gravity is the only external force)
-  std::vector<double> v0(6 * static_cast<size_t>(s.num_columns));
+  for (const Constraint& con : m.constraints) {
+    const int k = s.add_block(num_rows(con.type), column[con.body_a], column[con.body_b]);
+    if (!is_equality(con.type)) s.set_bounds(k, 0, kUnbounded);
+  }
+  s.set_compliance(0);
+  return s;
+}
+
+// W_b = blockdiag(I3 / m, R diag(1/I) R^T) per column, at the current orientations.
+void write_inverse_mass(const Mechanism& m, const std::vector<int>& column, System* s) {
   for (size_t b = 0; b < m.bodies.size(); ++b) {
     const int c = column[b];
     if (c < 0) continue;
     const RigidBody& body = m.bodies[b];
-    // W_b = blockdiag(I3 / m, R diag(1/I) R^T)
-    double* w = s.inverse_mass.data() + 36 * c;
+    double* w = s->inverse_mass.data() + 36 * c;
     const Eigen::Matrix3d inv_i = body.inverse_inertia_world();
     for (int i = 0; i < 3; ++i) {
       w[6 * i + i] = 1 / body.mass;
       for (int j = 0; j < 3; ++j) w[6 * (3 + i) + 3 + j] = inv_i(i, j);
     }
-    const Eigen::Vector3d v = body.linear_velocity + m.gravity * dt;
+  }
+}
+
+// Constraint k's rows at the current pose: its Jacobian into the System's cells (returned, with c).
+ConstraintRows write_jacobian(const Mechanism& m, int k, System* s) {
+  const Constraint& con = m.constraints[k];
+  const ConstraintRows rows = evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b]);
+  for (int r = 0; r < rows.rows; ++r) {
+    const double* j = rows.jacobian.data() + 12 * r;
+    std::copy(j, j + 6, s->cell_a(k) + 6 * r);
+    std::copy(j + 6, j + 12, s->cell_b(k) + 6 * r);
+  }
+  return rows;
+}
+
+// The velocity step's values, each constraint evaluated once: W, J, R = target - J (V0 + W F dt)
+// and the compliance. v0 (size 6 columns) receives V0 + W F dt; load (size 6 bodies, or empty)
+// holds the forces and torques applied for this step on top of gravity and the constant loads.
+void write_velocity_system(const Mechanism& m, const StepOptions& options, const std::vector<int>& column,
+                           std::span<const double> load, std::span<double> v0, System* s) {
+  const double dt = m.timestep;
+  write_inverse_mass(m, column, s);
+  for (size_t b = 0; b < m.bodies.size(); ++b) {
+    const int c = column[b];
+    if (c < 0) continue;
+    const RigidBody& body = m.bodies[b];
+    Eigen::Vector3d force = body.applied_force, torque = body.applied_torque;
+    if (!load.empty()) {
+      force += Eigen::Vector3d(load[6 * b], load[6 * b + 1], load[6 * b + 2]);
+      torque += Eigen::Vector3d(load[6 * b + 3], load[6 * b + 4], load[6 * b + 5]);
+    }
+    const Eigen::Vector3d v = body.linear_velocity + (m.gravity + force / body.mass) * dt;
+    Eigen::Vector3d w = body.angular_velocity;
+    if (!torque.isZero(0)) w += body.inverse_inertia_world() * torque * dt;
     for (int i = 0; i < 3; ++i) {
       v0[6 * c + i] = v[i];
-      v0[6 * c + 3 + i] = body.angular_velocity[i];
+      v0[6 * c + 3 + i] = w[i];
     }
   }
-  for (const Constraint& con : m.constraints) {
-    const ConstraintRows rows = evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b]);
+  for (int k = 0; k < static_cast<int>(m.constraints.size()); ++k) {
+    const Constraint& con = m.constraints[k];
+    const ConstraintRows rows = write_jacobian(m, k, s);
     const int ca = column[con.body_a], cb = column[con.body_b];
-    const int k = s.add_block(rows.rows, ca, cb);
-    if (!is_equality(con.type)) s.set_bounds(k, 0, kUnbounded);
     for (int r = 0; r < rows.rows; ++r) {
       const double* j = rows.jacobian.data() + 12 * r;
-      std::copy(j, j + 6, s.cell_a(k) + 6 * r);
-      std::copy(j + 6, j + 12, s.cell_b(k) + 6 * r);
       double jv = 0;  // J (V0 + W F dt)
       for (int x = 0; x < 6; ++x) {
         if (ca >= 0) jv += j[x] * v0[6 * ca + x];
@@ -92,50 +135,302 @@ System build_system(const Mechanism& m, const StepOptions& options) {
       const double cv = rows.c[r];
       double target = -options.baumgarte * cv / dt;
       if (!is_equality(con.type) && cv >= 0) target = -cv / dt;  // speculative: close the gap, not cross
-      s.rhs[s.blocks[k].position + r] = target - jv;
+      s->rhs[s->blocks[k].position + r] = target - jv;
     }
   }
-  s.set_compliance(options.compliance);
+  std::fill(s->compliance.begin(), s->compliance.end(), options.compliance);
+}
+
+// q <- exp(dtheta) q, dtheta a world-frame rotation vector (left product: world frame; the right
+// product would rotate about the body-frame axis, the same only where the two coincide, as on
+// planar scenes), then normalized.
+void rotate(RigidBody& b, const Eigen::Vector3d& dtheta) {
+  const double angle = dtheta.norm();
+  if (angle > 0) b.orientation = (Eigen::Quaterniond(Eigen::AngleAxisd(angle, dtheta / angle)) * b.orientation).normalized();
+}
+
+bool all_finite(const Eigen::Vector3d& v) { return v.allFinite(); }
+
+}  // namespace
+
+int post_stabilize_iterations(const StepOptions& options) {
+  if (options.post_stabilize != StepOptions::kAutoPostStabilize) return options.post_stabilize;
+  const bool factors = options.solver.kind == SolverKind::ldl_pgs || options.solver.kind == SolverKind::direct;
+  return factors ? 8 : 0;
+}
+
+System build_system(const Mechanism& m, const StepOptions& options) {
+  const std::vector<int> column = body_columns(m);
+  System s = system_structure(m, column);
+  std::vector<double> v0(6 * static_cast<size_t>(s.num_columns));
+  write_velocity_system(m, options, column, {}, v0, &s);
   return s;
 }
 
 Simulation::Simulation(Mechanism mechanism, const StepOptions& options)
     : mechanism_(std::move(mechanism)),
       options_(options),
-      solver_(build_system(mechanism_, options), options.solver),
+      column_(body_columns(mechanism_)),
+      system_(system_structure(mechanism_, column_)),
+      solver_(system_, options.solver),
       lambda_(mechanism_.num_rows(), 0.0),
-      dv_(6 * static_cast<size_t>(mechanism_.num_dynamic_bodies()), 0.0) {}
+      dv_(6 * static_cast<size_t>(mechanism_.num_dynamic_bodies()), 0.0),
+      v0_(dv_.size(), 0.0),
+      mu_(lambda_.size(), 0.0),
+      load_(6 * mechanism_.bodies.size(), 0.0) {
+  options_.post_stabilize = post_stabilize_iterations(options);
+  if (options_.post_stabilize < 0 || options.post_stabilize_sweeps < 1 || !(options.post_stabilize_tolerance >= 0))
+    throw InputError("post-stabilization: iterations >= 0, sweeps >= 1 and a tolerance >= 0 are required");
+  if (options_.post_stabilize > 0 && (!solver_.symbolic() || options.post_stabilize_refactor)) {
+    // pgs and block-gs have no factor: the projection gets one of its own, the hybrid on
+    // inequality rows, exact otherwise; so does a refactoring projection, which calls solve()
+    // and so would run the velocity level's iterations, not post_stabilize_sweeps.
+    SolverOptions o = options.solver;
+    o.kind = mechanism_.first_inequality() >= 0 ? SolverKind::ldl_pgs : SolverKind::direct;
+    o.iterations = options.post_stabilize_sweeps;
+    o.schedule = HybridSchedule::inequality_pgs;
+    projector_ = std::make_unique<Solver>(system_, o);
+  }
+}
+
+Simulation::~Simulation() = default;
+Simulation::Simulation(Simulation&&) noexcept = default;
+Simulation& Simulation::operator=(Simulation&&) noexcept = default;
+
+void Simulation::velocity_system() { write_velocity_system(mechanism_, options_, column_, load_, v0_, &system_); }
+
+double Simulation::position_rhs(bool with_jacobian) {
+  if (with_jacobian) write_inverse_mass(mechanism_, column_, &system_);
+  const Mechanism& m = mechanism_;
+  double worst = 0;
+  for (int k = 0; k < static_cast<int>(m.constraints.size()); ++k) {
+    const Constraint& con = m.constraints[k];
+    const ConstraintRows rows =
+        with_jacobian ? write_jacobian(m, k, &system_) : evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b]);
+    // (H_0 + E D_0) dmu = -c; an inequality row (c >= 0 respected, dmu >= 0) then asks only
+    // J dq >= -c: a respected gap stays open, a violated one is closed.
+    const bool equality = is_equality(con.type);
+    for (int r = 0; r < rows.rows; ++r) {
+      system_.rhs[system_.blocks[k].position + r] = -rows.c[r];
+      worst = std::max(worst, equality ? std::abs(rows.c[r]) : -rows.c[r]);
+    }
+  }
+  return worst;
+}
+
+bool Simulation::post_stabilize(StepReport* report) {
+  Solver& solver = projector_ ? *projector_ : solver_;
+  const bool refactor = options_.post_stabilize_refactor;
+  const int sweeps = mechanism_.first_inequality() >= 0 ? options_.post_stabilize_sweeps : 0;
+  for (int it = 0; it < options_.post_stabilize; ++it) {
+    if (!(position_rhs(refactor) > options_.post_stabilize_tolerance)) break;  // (NaN goes on: it is reported)
+    std::fill(mu_.begin(), mu_.end(), 0.0);
+    // Without a factor of its own (pgs, block-gs) the projector factors once per step, at J_0.
+    SolveResult r;
+    if (refactor || (projector_ && it == 0)) r = solver.solve(system_, mu_, dv_);  // (sweeps: the projector's own)
+    else r = solver.resolve(system_, mu_, dv_, sweeps, HybridSchedule::inequality_pgs);
+    if (!r.ok()) return false;
+    int c = 0;
+    for (RigidBody& b : mechanism_.bodies) {
+      if (b.is_static) continue;
+      const double* dq = dv_.data() + 6 * c++;  // W J^T dmu
+      b.position += Eigen::Vector3d(dq[0], dq[1], dq[2]);
+      rotate(b, Eigen::Vector3d(dq[3], dq[4], dq[5]));
+    }
+    ++report->post_stabilize_iterations;
+  }
+  return true;
+}
 
 StepReport Simulation::step() {
+  using Clock = std::chrono::steady_clock;
+  const auto us = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::micro>(b - a).count();
+  };
   Mechanism& m = mechanism_;
   const double dt = m.timestep;
-  system_ = build_system(m, options_);
   StepReport report;
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
+  velocity_system();
+  const auto solve_start = Clock::now();
   report.result = solver_.solve(system_, lambda_, dv_);
-  report.solve_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
-  report.velocity_residual = velocity_residual(system_, lambda_, dv_);
+  const auto solve_end = Clock::now();
+  report.solve_us = us(solve_start, solve_end);
+  if (options_.diagnostics) report.velocity_residual = velocity_residual(system_, lambda_, dv_);
   int c = 0;
   for (RigidBody& b : m.bodies) {
     if (b.is_static) continue;
     // V1 = V0 + W F dt + W J^T lambda
-    b.linear_velocity += m.gravity * dt + Eigen::Vector3d(dv_[6 * c], dv_[6 * c + 1], dv_[6 * c + 2]);
-    b.angular_velocity += Eigen::Vector3d(dv_[6 * c + 3], dv_[6 * c + 4], dv_[6 * c + 5]);
+    const double* v0 = v0_.data() + 6 * c;
+    const double* dv = dv_.data() + 6 * c;
     ++c;
+    b.linear_velocity = Eigen::Vector3d(v0[0] + dv[0], v0[1] + dv[1], v0[2] + dv[2]);
+    b.angular_velocity = Eigen::Vector3d(v0[3] + dv[3], v0[4] + dv[4], v0[5] + dv[5]);
     b.position += b.linear_velocity * dt;
     // q <- exp(w dt) q (world-frame w), renormalized. The body's angular momentum I w is kept
     // through the rotation (w <- I_new^-1 I_old w): without it a free asymmetric body's angular
     // momentum would drift, since semi-implicit Euler drops the gyroscopic term w x I w.
     const Eigen::Vector3d momentum = b.inertia_world() * b.angular_velocity;
-    const double angle = b.angular_velocity.norm() * dt;
-    if (angle > 0)
-      b.orientation = (Eigen::Quaterniond(Eigen::AngleAxisd(angle, b.angular_velocity.normalized())) * b.orientation).normalized();
+    rotate(b, b.angular_velocity * dt);
     b.angular_velocity = b.inverse_inertia_world() * momentum;
   }
+  std::fill(load_.begin(), load_.end(), 0.0);
+  if (options_.post_stabilize > 0) {
+    // A failed factorization (report.result) leaves nothing to project with: skipped, counted.
+    if (!report.result.ok() || !post_stabilize(&report)) ++post_stabilize_skipped_;
+    report.post_stabilize_us = us(solve_end, Clock::now());
+  }
   time_ += dt;
-  report.error = constraint_error(m);
-  report.energy = total_energy(m);
+  report.step_us = us(start, Clock::now());
+  if (options_.diagnostics) {
+    report.error = constraint_error(m);
+    report.energy = total_energy(m);
+  }
   return report;
+}
+
+// --- the state and force API -----------------------------------------------------------------
+
+RigidBody& Simulation::writable(int body, const char* what, bool dynamic_only) {
+  if (body < 0 || body >= static_cast<int>(mechanism_.bodies.size()))
+    throw InputError(std::string(what) + ": body " + std::to_string(body) + " out of range 0.." +
+                     std::to_string(static_cast<int>(mechanism_.bodies.size()) - 1));
+  RigidBody& b = mechanism_.bodies[body];
+  if (dynamic_only && b.is_static)
+    throw InputError(std::string(what) + ": body " + std::to_string(body) + " (" + b.name + ") is static");
+  return b;
+}
+
+namespace {
+void require_finite(const Eigen::Vector3d& v, const char* what, int body) {
+  if (!all_finite(v)) throw InputError(std::string(what) + ": body " + std::to_string(body) + ": value not finite");
+}
+}  // namespace
+
+void Simulation::set_position(int body, const Eigen::Vector3d& position) {
+  RigidBody& b = writable(body, "set_position", false);
+  require_finite(position, "set_position", body);
+  b.position = position;
+}
+
+void Simulation::set_orientation(int body, const Eigen::Quaterniond& orientation) {
+  RigidBody& b = writable(body, "set_orientation", false);
+  const double norm = orientation.norm();
+  if (!std::isfinite(norm) || std::abs(norm - 1) > 1e-6)
+    throw InputError("set_orientation: body " + std::to_string(body) + ": quaternion norm " + std::to_string(norm) +
+                     " is not 1 (within 1e-6)");
+  b.orientation = orientation.normalized();
+}
+
+void Simulation::set_linear_velocity(int body, const Eigen::Vector3d& velocity) {
+  RigidBody& b = writable(body, "set_linear_velocity", true);
+  require_finite(velocity, "set_linear_velocity", body);
+  b.linear_velocity = velocity;
+}
+
+void Simulation::set_angular_velocity(int body, const Eigen::Vector3d& velocity) {
+  RigidBody& b = writable(body, "set_angular_velocity", true);
+  require_finite(velocity, "set_angular_velocity", body);
+  b.angular_velocity = velocity;
+}
+
+namespace {
+void require_size(size_t got, size_t per_body, size_t bodies, const char* what) {
+  if (got != per_body * bodies)
+    throw InputError(std::string(what) + ": " + std::to_string(got) + " values for " + std::to_string(bodies) +
+                     " bodies (" + std::to_string(per_body) + " per body)");
+}
+}  // namespace
+
+void Simulation::get_positions(std::span<double> out) const {
+  require_size(out.size(), 3, mechanism_.bodies.size(), "get_positions");
+  for (size_t b = 0; b < mechanism_.bodies.size(); ++b)
+    for (int i = 0; i < 3; ++i) out[3 * b + i] = mechanism_.bodies[b].position[i];
+}
+
+void Simulation::get_orientations(std::span<double> out) const {
+  require_size(out.size(), 4, mechanism_.bodies.size(), "get_orientations");
+  for (size_t b = 0; b < mechanism_.bodies.size(); ++b) {
+    const Eigen::Quaterniond& q = mechanism_.bodies[b].orientation;
+    out[4 * b] = q.w();
+    out[4 * b + 1] = q.x();
+    out[4 * b + 2] = q.y();
+    out[4 * b + 3] = q.z();
+  }
+}
+
+void Simulation::get_velocities(std::span<double> out) const {
+  require_size(out.size(), 6, mechanism_.bodies.size(), "get_velocities");
+  for (size_t b = 0; b < mechanism_.bodies.size(); ++b)
+    for (int i = 0; i < 3; ++i) {
+      out[6 * b + i] = mechanism_.bodies[b].linear_velocity[i];
+      out[6 * b + 3 + i] = mechanism_.bodies[b].angular_velocity[i];
+    }
+}
+
+// The array setters check everything before writing anything: a refused call changes nothing.
+void Simulation::set_positions(std::span<const double> in) {
+  require_size(in.size(), 3, mechanism_.bodies.size(), "set_positions");
+  for (size_t b = 0; b < mechanism_.bodies.size(); ++b)
+    require_finite(Eigen::Vector3d(in[3 * b], in[3 * b + 1], in[3 * b + 2]), "set_positions", static_cast<int>(b));
+  for (size_t b = 0; b < mechanism_.bodies.size(); ++b)
+    mechanism_.bodies[b].position = Eigen::Vector3d(in[3 * b], in[3 * b + 1], in[3 * b + 2]);
+}
+
+void Simulation::set_orientations(std::span<const double> in) {
+  require_size(in.size(), 4, mechanism_.bodies.size(), "set_orientations");
+  const auto at = [&](size_t b) { return Eigen::Quaterniond(in[4 * b], in[4 * b + 1], in[4 * b + 2], in[4 * b + 3]); };
+  for (size_t b = 0; b < mechanism_.bodies.size(); ++b) {
+    const double norm = at(b).norm();
+    if (!std::isfinite(norm) || std::abs(norm - 1) > 1e-6)
+      throw InputError("set_orientations: body " + std::to_string(b) + ": quaternion norm " + std::to_string(norm) +
+                       " is not 1 (within 1e-6)");
+  }
+  for (size_t b = 0; b < mechanism_.bodies.size(); ++b) mechanism_.bodies[b].orientation = at(b).normalized();
+}
+
+void Simulation::set_velocities(std::span<const double> in) {
+  require_size(in.size(), 6, mechanism_.bodies.size(), "set_velocities");
+  for (size_t b = 0; b < mechanism_.bodies.size(); ++b) {
+    const Eigen::Vector3d v(in[6 * b], in[6 * b + 1], in[6 * b + 2]), w(in[6 * b + 3], in[6 * b + 4], in[6 * b + 5]);
+    require_finite(v, "set_velocities", static_cast<int>(b));
+    require_finite(w, "set_velocities", static_cast<int>(b));
+    if (mechanism_.bodies[b].is_static && !(v.isZero(0) && w.isZero(0)))
+      throw InputError("set_velocities: body " + std::to_string(b) + " (" + mechanism_.bodies[b].name +
+                       ") is static: its velocity must be zero");
+  }
+  for (size_t b = 0; b < mechanism_.bodies.size(); ++b) {
+    if (mechanism_.bodies[b].is_static) continue;
+    mechanism_.bodies[b].linear_velocity = Eigen::Vector3d(in[6 * b], in[6 * b + 1], in[6 * b + 2]);
+    mechanism_.bodies[b].angular_velocity = Eigen::Vector3d(in[6 * b + 3], in[6 * b + 4], in[6 * b + 5]);
+  }
+}
+
+void Simulation::apply_force(int body, const Eigen::Vector3d& force, const Eigen::Vector3d& torque) {
+  writable(body, "apply_force", true);
+  require_finite(force, "apply_force", body);
+  require_finite(torque, "apply_force", body);
+  for (int i = 0; i < 3; ++i) {
+    load_[6 * body + i] += force[i];
+    load_[6 * body + 3 + i] += torque[i];
+  }
+}
+
+void Simulation::apply_force_at(int body, const Eigen::Vector3d& force, const Eigen::Vector3d& point) {
+  const RigidBody& b = writable(body, "apply_force_at", true);
+  require_finite(point, "apply_force_at", body);
+  require_finite(force, "apply_force_at", body);
+  apply_force(body, force, (point - b.position).cross(force));
+}
+
+void Simulation::set_gravity(const Eigen::Vector3d& gravity) {
+  if (!all_finite(gravity)) throw InputError("set_gravity: value not finite");
+  mechanism_.gravity = gravity;
+}
+
+void Simulation::set_timestep(double timestep) {
+  if (!(timestep > 0) || !std::isfinite(timestep)) throw InputError("set_timestep: the timestep must be finite and > 0");
+  mechanism_.timestep = timestep;
 }
 
 }  // namespace ldlpgs

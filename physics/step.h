@@ -5,9 +5,26 @@
 // corrected per step), and on an inequality row (c >= 0 when respected) J V1 >= -c / dt while
 // c >= 0 (it may close the gap, not cross it) and J V1 >= -beta c / dt once violated, with
 // lambda >= 0. Then positions and orientation quaternions are integrated with V1 and the
-// quaternions renormalized. The symbolic phase (ordering, block LDL^T symbolic) runs once in the
-// constructor and is reused by every step: the topology never changes during a run.
-#include <chrono>
+// quaternions renormalized. F is gravity, the bodies' constant loads (RigidBody::applied_force)
+// and the forces applied for this step (Simulation::apply_force).
+//
+// Post-stabilization (position projection; Cline and Pai, "Post-stabilization for rigid body
+// simulation with contact and constraints", ICRA 2003) then removes the position error the
+// velocity step leaves, which is semi-implicit Euler's drift along the constraint manifold's
+// curvature, (1/2) dt^2 |w x (w x r)| per step: with q1 the integrated pose, each iteration
+//   solves (H_0 + E D_0) dmu = -c(q)  with the step's own factor (J_0, W_0 at the step's start),
+//   moves q by W_0 J_0^T dmu: positions by its linear part, orientations by its angular part as
+//   a world-frame rotation vector, q <- exp(dtheta) q (then normalized).
+// A correction must use the factor's own J_0 and W_0: with the factor of J_0 and the Jacobian at
+// q1 the two disagree and the correction is no longer a projection (measured: the tracked vehicle
+// flew apart). Inequality rows take part with dmu >= 0 (the step's own hybrid at position level).
+// With `post_stabilize_refactor`, each iteration instead evaluates J and W at the corrected pose
+// and refactors (Newton: quadratic, not linear, convergence; about a factorization per iteration).
+//
+// The symbolic phase (ordering, block LDL^T symbolic) runs in the constructor and is reused by
+// every step as long as the topology is the same: writing the state, forces, gravity or the
+// timestep between steps keeps it. After the first step, step() allocates no memory.
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -23,10 +40,32 @@ struct StepOptions {
   // by measurement (papers/physics.md, "Compliance").
   double compliance = 1e-8;
   double baumgarte = 0.2;  // beta: fraction of the position error corrected per step
+  // Post-stabilization: at most this many iterations per step reusing the step's factor (0:
+  // off), stopping once no row's error exceeds the tolerance (m on translational rows, rad on
+  // angular ones; inequality rows count only when violated). kAutoPostStabilize: 8 on the
+  // solvers that factor (ldl-pgs, direct), 0 on pgs and block-gs, which have no factor to reuse
+  // (given a count, they get one of their own: a factorization per step). Defaults chosen by
+  // measurement (papers/physics.md, "Post-stabilization").
+  static constexpr int kAutoPostStabilize = -1;
+  int post_stabilize = kAutoPostStabilize;
+  double post_stabilize_tolerance = 1e-9;
+  // Each post-stabilization iteration refactors at the corrected pose (Newton) instead.
+  bool post_stabilize_refactor = false;
+  // Iterations of the hybrid at position level on a mechanism with inequality rows (limits,
+  // ropes), as PGS sweeps over the inequality rows only, then the block step (schedule
+  // inequality-pgs): ropes nearly redundant with rods need the position solve converged on their
+  // rows, or the corrections feed a slow instability (the rope bridge: papers/physics.md).
+  int post_stabilize_sweeps = 40;
+  // Fill StepReport's error, velocity residual and energy (costs one more evaluation of every
+  // constraint per step; the CLI asks, a library stepping for speed need not).
+  bool diagnostics = false;
 };
 
 // Position errors over all constraint rows, at the current pose: equality rows |c|, inequality
 // rows max(0, -c) (only violation counts).
+// The iterations `options` asks for, kAutoPostStabilize resolved for its solver.
+int post_stabilize_iterations(const StepOptions& options);
+
 struct ConstraintError {
   double position_max = 0, position_rms = 0;  // translational rows (m)
   double angular_max = 0, angular_rms = 0;    // angular rows (rad)
@@ -42,30 +81,80 @@ double total_energy(const Mechanism& mechanism);
 System build_system(const Mechanism& mechanism, const StepOptions& options);
 
 struct StepReport {
-  double solve_us = 0;           // Solver::solve alone (numeric phase: H, LDL^T, sweeps)
-  ConstraintError error;         // after the step
-  double velocity_residual = 0;  // max |J V1 - target| as solver.h defines it (m/s, rad/s)
-  double energy = 0;             // after the step
-  SolveResult result;            // a failed factorization is reported here (the PGS impulses are used)
+  double solve_us = 0;            // the velocity solve alone (numeric phase: H, LDL^T, sweeps)
+  double post_stabilize_us = 0;   // the position correction (evaluations, solves, moves)
+  double step_us = 0;             // the whole step
+  int post_stabilize_iterations = 0;  // done (0 when off, or skipped after a failed factorization)
+  SolveResult result;             // a failed factorization is reported here (the PGS impulses are used)
+  // With StepOptions::diagnostics (zero otherwise):
+  ConstraintError error;          // after the step
+  double velocity_residual = 0;   // max |J V1 - target| as solver.h defines it (m/s, rad/s)
+  double energy = 0;              // after the step
 };
 
 class Simulation {
  public:
   Simulation(Mechanism mechanism, const StepOptions& options);
+  ~Simulation();
+  Simulation(Simulation&&) noexcept;
+  Simulation& operator=(Simulation&&) noexcept;
+
   StepReport step();
+
   const Mechanism& mechanism() const { return mechanism_; }
+  const StepOptions& options() const { return options_; }
   double time() const { return time_; }
   const Solver& solver() const { return solver_; }
   std::span<const double> impulses() const { return lambda_; }  // last step's lambda (size rows)
+  // Steps whose post-stabilization was skipped because its factorization failed.
+  int post_stabilize_skipped() const { return post_stabilize_skipped_; }
+
+  // The state between steps. Bodies are indices into mechanism().bodies (find_body for names).
+  // Every write is checked in every build and refused with an InputError naming the body: an
+  // index out of range, a non-finite value, a quaternion whose norm is off 1 by more than 1e-6
+  // (within that it is normalized), a velocity or force on a static body (it never moves;
+  // moving its position or orientation is allowed and carries its anchors).
+  void set_position(int body, const Eigen::Vector3d& position);
+  void set_orientation(int body, const Eigen::Quaterniond& orientation);
+  void set_linear_velocity(int body, const Eigen::Vector3d& velocity);
+  void set_angular_velocity(int body, const Eigen::Vector3d& velocity);
+  // Flat arrays over all bodies in order, as MuJoCo's mjData keeps them: positions 3 per body
+  // (xpos), orientations 4 per body (w, x, y, z: xquat), velocities 6 per body (linear then
+  // angular, world frame). A span of the wrong size is refused.
+  void get_positions(std::span<double> out) const;
+  void get_orientations(std::span<double> out) const;
+  void get_velocities(std::span<double> out) const;
+  void set_positions(std::span<const double> in);
+  void set_orientations(std::span<const double> in);
+  void set_velocities(std::span<const double> in);  // static bodies' entries must be zero
+  // An external force (N) through the centre of mass and a torque (N m), world frame, for the
+  // next step only (they add up until it; MuJoCo's xfrc_applied, but cleared by step()). A
+  // constant load is RigidBody::applied_force.
+  void apply_force(int body, const Eigen::Vector3d& force, const Eigen::Vector3d& torque = Eigen::Vector3d::Zero());
+  // The same force applied at a world point: adds the torque (point - centre) x force.
+  void apply_force_at(int body, const Eigen::Vector3d& force, const Eigen::Vector3d& point);
+  void set_gravity(const Eigen::Vector3d& gravity);  // m/s^2, finite
+  void set_timestep(double timestep);                // s, finite and > 0
 
  private:
+  RigidBody& writable(int body, const char* what, bool dynamic_only);
+  void velocity_system();                   // J, W, rhs at the current pose into system_
+  double position_rhs(bool with_jacobian);  // rhs = -c at the current pose (and J, W with it); max error
+  bool post_stabilize(StepReport* report);  // false: a factorization failed
+
   Mechanism mechanism_;
   StepOptions options_;
+  std::vector<int> column_;     // velocity block of each body, -1 static (size bodies)
+  System system_;               // structure fixed; values rewritten every step
   Solver solver_;
-  System system_;
+  std::unique_ptr<Solver> projector_;  // post-stabilization's LDL^T when solver_ has none (pgs, block-gs)
   std::vector<double> lambda_;  // warm start (size rows)
   std::vector<double> dv_;      // W J^T lambda (size 6 dynamic bodies)
+  std::vector<double> v0_;      // V0 + W F dt (size 6 dynamic bodies)
+  std::vector<double> mu_;      // post-stabilization's dmu (size rows)
+  std::vector<double> load_;    // forces and torques applied for the next step (size 6 bodies)
   double time_ = 0;
+  int post_stabilize_skipped_ = 0;
 };
 
 }  // namespace ldlpgs

@@ -24,6 +24,9 @@ class LdlBlock {
   // lambda_0 += dlambda_0, dV += W J_0^T dlambda_0 (D_0 = diag(H_0) = the row cache's diag,
   // E = diag(eps_i)).
   void block_step(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv);
+  // The exact solve of an equality-only system with the current factor: lambda = (H_0 + E D_0)^-1 R,
+  // dV = W J^T lambda (no warm start, no row cache).
+  void exact_solve(const System& system, std::span<double> lambda, std::span<double> dv);
   const Symbolic& symbolic() const { return *symbolic_; }
 
  private:
@@ -33,10 +36,9 @@ class LdlBlock {
   std::vector<double> work_;  // the block's residual, then its dlambda (size rows of H_0)
 };
 
-// ldl_pgs.cpp and direct.cpp: the two solvers built on the block.
-SolveResult solve_ldl_pgs(const System& system, int iterations, const RowCache& rows, LdlBlock& ldl,
-                          std::span<double> lambda, std::span<double> dv);
-SolveResult solve_direct(const System& system, const RowCache& rows, LdlBlock& ldl, std::span<double> lambda,
-                         std::span<double> dv);
+// ldl_pgs.cpp: ldl-pgs's iterations on a system with inequality rows, after the factorization
+// (factored: whether it succeeded; if not, only the PGS sweeps run and lambda keeps their impulses).
+void ldl_pgs_iterate(const System& system, int iterations, HybridSchedule schedule, const RowCache& rows,
+                     LdlBlock& ldl, bool factored, std::span<double> lambda, std::span<double> dv);
 
 }  // namespace ldlpgs

@@ -5,6 +5,8 @@
 // that PGS leaves on long chains, heavy loads and loops.
 #include "solver/ldl_block.h"
 
+#include <algorithm>
+
 #include "ordering/ordering.h"
 
 namespace ldlpgs {
@@ -41,15 +43,34 @@ void LdlBlock::block_step(const System& system, const RowCache& rows, std::span<
   }
 }
 
-SolveResult solve_ldl_pgs(const System& system, int iterations, const RowCache& rows, LdlBlock& ldl,
-                          std::span<double> lambda, std::span<double> dv) {
-  for (int it = 0; it + 1 < iterations; ++it) pgs_sweep(system, rows, lambda, dv);
-  SolveResult result;
-  result.factor = ldl.factorize(system);
-  if (!result.ok()) return result;  // lambda keeps the PGS impulses; the caller reports the status
-  ldl.block_step(system, rows, lambda, dv);
-  pgs_sweep(system, rows, lambda, dv, /*inequality_only=*/true);
-  return result;
+void LdlBlock::exact_solve(const System& system, std::span<double> lambda, std::span<double> dv) {
+  int at = 0;
+  for (int k : h_.system_blocks()) {
+    const RowBlock& b = system.blocks[k];
+    for (int r = 0; r < b.size; ++r) work_[at++] = system.rhs[b.position + r];
+  }
+  if (!work_.empty()) numeric_->solve(work_);
+  std::fill(lambda.begin(), lambda.end(), 0.0);
+  at = 0;
+  for (int k : h_.system_blocks()) {
+    const RowBlock& b = system.blocks[k];
+    for (int r = 0; r < b.size; ++r) lambda[b.position + r] = work_[at++];
+  }
+  std::fill(dv.begin(), dv.end(), 0.0);
+  add_velocity_change(system, lambda, dv);
+}
+
+void ldl_pgs_iterate(const System& system, int iterations, HybridSchedule schedule, const RowCache& rows,
+                     LdlBlock& ldl, bool factored, std::span<double> lambda, std::span<double> dv) {
+  const int sweeps = schedule == HybridSchedule::block_gs ? 0 : iterations - 1;
+  const bool inequality_only = schedule == HybridSchedule::inequality_pgs;
+  for (int it = 0; it < sweeps; ++it) pgs_sweep(system, rows, lambda, dv, inequality_only);
+  if (!factored) return;  // lambda keeps the PGS impulses; the caller reports the status
+  const int block_sweeps = schedule == HybridSchedule::block_gs ? iterations : 1;
+  for (int it = 0; it < block_sweeps; ++it) {
+    ldl.block_step(system, rows, lambda, dv);
+    pgs_sweep(system, rows, lambda, dv, /*inequality_only=*/true);
+  }
 }
 
 }  // namespace ldlpgs

@@ -9,13 +9,18 @@
 //   equality_matrix.h  H = J_0 W J_0^T + eps diag over the equality blocks, fixed pattern
 //   ldl_pgs.cpp        ldl-pgs   the talk's hybrid: N-1 PGS iterations, then one block GS
 //                                iteration with all equality rows as one block solved by the
-//                                sparse block LDL^T (factor/), inequality rows projected one by one
-//   direct.cpp         direct    equality-only systems solved exactly by the LDL^T: the reference
+//                                sparse block LDL^T (factor/), inequality rows projected one by
+//                                one (HybridSchedule: how the iterations are spent); without
+//                                inequality rows, one exact solve (what direct does)
+//                      direct    equality-only systems solved exactly by the LDL^T: the reference
 //
 // The symbolic phase (H's pattern, ordering, Symbolic) runs in the constructor, once per
 // structure; solve() is the numeric phase, every step, and may be called with any System of the
-// same structure. Lambda is warm-started: solve() starts from the lambda it is given.
+// same structure. Lambda is warm-started: solve() starts from the lambda it is given. resolve()
+// solves again with the last solve's matrix (its factor and caches) and a new right-hand side:
+// the position projection of physics/step.h.
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -32,12 +37,25 @@ const char* to_string(SolverKind kind);
 bool solver_kind_from_string(std::string_view name, SolverKind* kind);  // false: unknown name
 std::span<const char* const> solver_names();
 
+// How ldl-pgs spends its iterations on a system with inequality rows (N = iterations; the
+// choice is measured in papers/physics.md, "Hybrid schedules"):
+//   talk            N-1 PGS sweeps over all rows, then one block GS sweep (equality block by
+//                   the LDL^T, inequality rows projected): the talk's N-1 + 1
+//   inequality-pgs  N-1 PGS sweeps over the inequality rows only, then one block GS sweep: the
+//                   equality rows' sweeps are wasted work when the block solves them exactly
+//   block-gs        N block GS sweeps, each one LDL^T solve reusing the factor
+enum class HybridSchedule { talk, inequality_pgs, block_gs };
+const char* to_string(HybridSchedule schedule);
+bool hybrid_schedule_from_string(std::string_view name, HybridSchedule* schedule);  // false: unknown
+std::span<const char* const> hybrid_schedule_names();
+
 struct SolverOptions {
   SolverKind kind = SolverKind::ldl_pgs;
   // Iterations over all rows: pgs and block-gs do this many sweeps; ldl-pgs does iterations - 1
   // PGS sweeps and one block GS sweep (the talk's N-1 + 1); direct ignores it.
   int iterations = 10;
   std::string ordering = "meca";  // elimination ordering of H's blocks (ordering/)
+  HybridSchedule schedule = HybridSchedule::talk;  // ldl-pgs with inequality rows
 };
 
 struct SolveResult {
@@ -59,6 +77,13 @@ class Solver {
   // Numeric phase. lambda (size num_rows): warm start in, impulses out. dv (size 6 num_columns):
   // out, W J^T lambda.
   SolveResult solve(const System& system, std::span<double> lambda, std::span<double> dv);
+  // The same iterations on the matrix of the last solve(): `system` must hold the J, W and
+  // compliance that solve() was given (its rhs and lambda may differ); nothing is refactored.
+  // A failed last factorization is returned again (lambda and dv are then left as pgs leaves them).
+  // iterations > 0 and schedule override options()' for this call (the position level needs more
+  // sweeps on inequality rows than the velocity level: papers/physics.md).
+  SolveResult resolve(const System& system, std::span<double> lambda, std::span<double> dv, int iterations = 0,
+                      std::optional<HybridSchedule> schedule = std::nullopt);
 
   const SolverOptions& options() const { return options_; }
   // The LDL^T's symbolic phase (ldl-pgs, direct), or null.

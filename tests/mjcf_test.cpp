@@ -289,6 +289,7 @@ Fall fall(Mechanism mech, double seconds) {
   const double dt = mech.timestep;
   StepOptions options;
   options.solver.kind = SolverKind::ldl_pgs;  // the humanoid's joint ranges are inequalities
+  options.diagnostics = true;
   Simulation sim(std::move(mech), options);
   Fall out;
   const int steps = static_cast<int>(std::lround(seconds / dt));

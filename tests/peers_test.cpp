@@ -114,19 +114,21 @@ TEST(Peers, SeparationIsZeroAtTheInitialPose) {
 // (a wrong inertia frame or gravity moves the bodies by decimetres in 0.5 s). Not bullet-si-10:
 // 10 sequential-impulse iterations leave this chain's velocity rows unconverged (9 mm off);
 // bullet-si-100 checks Bullet's construction. Nor mujoco-reduced: semi-implicit Euler on the
-// joint coordinates is another discretization (6 mm off here); the pendulum checks it.
+// joint coordinates is another discretization (6 mm off here); the pendulum checks it. Nor our
+// post-stabilized solvers: projecting positions changes the discretization too (3 mm off here).
 TEST(Peers, MixedChainMovesAsOurDirectSolver) {
   const Mechanism m = mixed_chain(false);
-  const PeerResult reference = find_peer("ldlpgs-direct")->run(m, 0.5);
+  const PeerResult reference = find_peer("ldlpgs-direct-baumgarte")->run(m, 0.5);
   ASSERT_TRUE(reference.ran());
   for (const PeerEngine* e : available_engines()) {
     PeerResult r = e->run(m, 0.5);
     ASSERT_TRUE(r.ran()) << e->name << ": " << r.skipped;
     compare_to(reference, &r);
-    std::printf("%-18s separation %.3e m, against ldlpgs-direct %.3e m\n", e->name.c_str(), r.separation,
+    std::printf("%-18s separation %.3e m, against ldlpgs-direct-baumgarte %.3e m\n", e->name.c_str(), r.separation,
                 r.trajectory_error);
     EXPECT_LT(r.separation, 1e-2) << e->name;
-    if (e->name != "bullet-si-10" && e->name != "mujoco-reduced") {
+    const bool post_stabilized = e->name == "ldlpgs-ldl-pgs" || e->name == "ldlpgs-direct";
+    if (e->name != "bullet-si-10" && e->name != "mujoco-reduced" && !post_stabilized) {
       EXPECT_LT(r.trajectory_error, 2e-3) << e->name;
     }
   }

@@ -25,8 +25,10 @@ PeerResult run_mujoco_mjcf(const std::string&, const Mechanism&, double, bool) {
 
 namespace {
 
-// One of our solvers as a peer: Simulation::step timed whole (J, W, H, the solve, integration).
-PeerResult run_ours(const Mechanism& m, double seconds, SolverKind kind, const std::string& engine) {
+// One of our solvers as a peer: Simulation::step timed whole (J, W, H, the solve, integration,
+// post-stabilization as StepOptions defaults it, or as `post_stabilize` says).
+PeerResult run_ours(const Mechanism& m, double seconds, SolverKind kind, const std::string& engine,
+                    int post_stabilize = StepOptions::kAutoPostStabilize) {
   PeerResult r;
   r.engine = engine;
   if (const int i = m.first_inequality(); kind == SolverKind::direct && i >= 0) {
@@ -36,6 +38,7 @@ PeerResult run_ours(const Mechanism& m, double seconds, SolverKind kind, const s
   }
   StepOptions options;
   options.solver.kind = kind;
+  options.post_stabilize = post_stabilize;
   Simulation sim(m, options);
   const size_t nb = m.bodies.size();
   timed_steps(m, seconds, [&] { sim.step(); }, [&] {
@@ -47,10 +50,15 @@ PeerResult run_ours(const Mechanism& m, double seconds, SolverKind kind, const s
   return r;
 }
 
-PeerEngine ours(const char* solver, SolverKind kind) {
+// "-baumgarte": without post-stabilization, positions left to Baumgarte's feedback alone (the
+// semi-implicit Euler step the other engines take).
+PeerEngine ours(const char* solver, SolverKind kind, bool baumgarte_only = false) {
   std::string name = "ldlpgs-";
   name += solver;
-  return {name, "ldlpgs", true, [kind, name](const Mechanism& m, double s) { return run_ours(m, s, kind, name); }};
+  if (baumgarte_only) name += "-baumgarte";
+  const int post = baumgarte_only ? 0 : StepOptions::kAutoPostStabilize;
+  return {name, "ldlpgs", true,
+          [kind, name, post](const Mechanism& m, double s) { return run_ours(m, s, kind, name, post); }};
 }
 
 #ifdef LDLPGS_HAVE_ODE
@@ -96,6 +104,8 @@ const std::vector<PeerEngine>& peer_engines() {
       ours("block-gs", SolverKind::block_gs),
       ours("ldl-pgs", SolverKind::ldl_pgs),
       ours("direct", SolverKind::direct),
+      ours("ldl-pgs", SolverKind::ldl_pgs, true),
+      ours("direct", SolverKind::direct, true),
       ode(0),  // ODE's default QuickStep count is 20; 200 is 10x that
       ode(20),
       ode(200),
