@@ -154,6 +154,7 @@ int run_step(const StepArgs& a) {
                         {"post_stabilize_refactor", a.post_stabilize_refactor},
                         {"post_stabilize_iterations", post_iterations},
                         {"post_stabilize_skipped", sim.post_stabilize_skipped()},
+                        {"post_stabilize_rejected", sim.post_stabilize_rejected()},
                         {"solve_us_median", median(solve_us)},
                         {"solve_us_max", worst.solve_us},
                         {"post_stabilize_us_median", median(post_us)},

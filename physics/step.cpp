@@ -177,7 +177,9 @@ Simulation::Simulation(Mechanism mechanism, const StepOptions& options)
       dv_(6 * static_cast<size_t>(mechanism_.num_dynamic_bodies()), 0.0),
       v0_(dv_.size(), 0.0),
       mu_(lambda_.size(), 0.0),
-      load_(6 * mechanism_.bodies.size(), 0.0) {
+      load_(6 * mechanism_.bodies.size(), 0.0),
+      saved_position_(mechanism_.bodies.size()),
+      saved_orientation_(mechanism_.bodies.size()) {
   options_.post_stabilize = post_stabilize_iterations(options);
   if (options_.post_stabilize < 0 || options.post_stabilize_sweeps < 1 || !(options.post_stabilize_tolerance >= 0))
     throw InputError("post-stabilization: iterations >= 0, sweeps >= 1 and a tolerance >= 0 are required");
@@ -222,8 +224,23 @@ bool Simulation::post_stabilize(StepReport* report) {
   Solver& solver = projector_ ? *projector_ : solver_;
   const bool refactor = options_.post_stabilize_refactor;
   const int sweeps = mechanism_.first_inequality() >= 0 ? options_.post_stabilize_sweeps : 0;
-  for (int it = 0; it < options_.post_stabilize; ++it) {
-    if (!(position_rhs(refactor) > options_.post_stabilize_tolerance)) break;  // (NaN goes on: it is reported)
+  double previous = kUnbounded;
+  for (int it = 0;; ++it) {
+    const double error = position_rhs(refactor && it < options_.post_stabilize);
+    // A correction that did not lower the largest error is undone, and the projection stops: on
+    // a mechanism whose position-level hybrid has not converged (limits that the velocity step
+    // left far from their active set) the corrections otherwise feed an instability.
+    if (!(error < previous)) {
+      if (it > 0) {
+        restore_pose();
+        --report->post_stabilize_iterations;
+        ++post_stabilize_rejected_;
+      }
+      break;
+    }
+    if (error <= options_.post_stabilize_tolerance || it == options_.post_stabilize) break;
+    previous = error;
+    save_pose();
     std::fill(mu_.begin(), mu_.end(), 0.0);
     // Without a factor of its own (pgs, block-gs) the projector factors once per step, at J_0.
     SolveResult r;
@@ -240,6 +257,20 @@ bool Simulation::post_stabilize(StepReport* report) {
     ++report->post_stabilize_iterations;
   }
   return true;
+}
+
+void Simulation::save_pose() {
+  for (size_t b = 0; b < mechanism_.bodies.size(); ++b) {
+    saved_position_[b] = mechanism_.bodies[b].position;
+    saved_orientation_[b] = mechanism_.bodies[b].orientation;
+  }
+}
+
+void Simulation::restore_pose() {
+  for (size_t b = 0; b < mechanism_.bodies.size(); ++b) {
+    mechanism_.bodies[b].position = saved_position_[b];
+    mechanism_.bodies[b].orientation = saved_orientation_[b];
+  }
 }
 
 StepReport Simulation::step() {

@@ -108,6 +108,8 @@ class Simulation {
   std::span<const double> impulses() const { return lambda_; }  // last step's lambda (size rows)
   // Steps whose post-stabilization was skipped because its factorization failed.
   int post_stabilize_skipped() const { return post_stabilize_skipped_; }
+  // Corrections undone because they did not lower the largest error (the iteration then stops).
+  int64_t post_stabilize_rejected() const { return post_stabilize_rejected_; }
 
   // The state between steps. Bodies are indices into mechanism().bodies (find_body for names).
   // Every write is checked in every build and refused with an InputError naming the body: an
@@ -141,6 +143,8 @@ class Simulation {
   void velocity_system();                   // J, W, rhs at the current pose into system_
   double position_rhs(bool with_jacobian);  // rhs = -c at the current pose (and J, W with it); max error
   bool post_stabilize(StepReport* report);  // false: a factorization failed
+  void save_pose();
+  void restore_pose();
 
   Mechanism mechanism_;
   StepOptions options_;
@@ -153,8 +157,11 @@ class Simulation {
   std::vector<double> v0_;      // V0 + W F dt (size 6 dynamic bodies)
   std::vector<double> mu_;      // post-stabilization's dmu (size rows)
   std::vector<double> load_;    // forces and torques applied for the next step (size 6 bodies)
+  std::vector<Eigen::Vector3d> saved_position_;       // the pose before a correction (size bodies)
+  std::vector<Eigen::Quaterniond> saved_orientation_;  // (size bodies)
   double time_ = 0;
   int post_stabilize_skipped_ = 0;
+  int64_t post_stabilize_rejected_ = 0;
 };
 
 }  // namespace ldlpgs
