@@ -55,7 +55,13 @@ bool Numeric::load(const SymmetricCsc& a, const FactorOptions& options) {
     not_finite |= (((std::bit_cast<uint64_t>(x) >> 52) & 0x7ff) + 1) >> 11;
   }
   if (not_finite) return false;
-  // H + eps diag(H), and the zero-pivot thresholds relative to that diagonal.
+  prepare(options);
+  return true;
+}
+
+// H + eps diag(H), and the zero-pivot thresholds relative to that diagonal.
+void Numeric::prepare(const FactorOptions& options) {
+  const Symbolic& s = *symbolic_;
   double largest = 0;
   for (int k = 0; k < s.num_pivots(); ++k) {
     const int d = s.size(k);
@@ -67,7 +73,40 @@ bool Numeric::load(const SymmetricCsc& a, const FactorOptions& options) {
     }
   }
   for (int i = 0; i < s.num_rows(); ++i) floor_[i] = options.zero_pivot * (diag_[i] > 0 ? diag_[i] : largest);
-  return true;
+}
+
+std::span<double> Numeric::begin_load() {
+  std::fill(values_.begin(), values_.end(), 0.0);
+  return values_;
+}
+
+FactorInfo Numeric::factorize_loaded(const FactorOptions& options) {
+  const Symbolic& s = *symbolic_;
+  info_ = FactorInfo{};
+  info_.min_pivot_ratio = s.num_rows() ? std::numeric_limits<double>::infinity() : 0;
+  uint64_t not_finite = 0;  // as in load(), over every packed value (fill and unused entries are 0)
+  for (const double x : values_) not_finite |= (((std::bit_cast<uint64_t>(x) >> 52) & 0x7ff) + 1) >> 11;
+  if (not_finite) {
+    // Name the first offending entry by its block and original row: its pivot k holds the
+    // offset, in the node block (row l of N_k) or in row r of E_{*,k}.
+    const int64_t at = std::find_if(values_.begin(), values_.end(), [](double x) { return !std::isfinite(x); }) -
+                       values_.begin();
+    int k = 0;
+    while (s.node_offset(k + 1) <= at) ++k;
+    const int d = s.size(k);
+    const int64_t local = at - s.node_offset(k);
+    const int row = local < int64_t{d} * d ? s.row_start(k) + static_cast<int>(local / d)
+                                           : s.column_rows(k)[(local - int64_t{d} * d) / d];
+    info_.status = FactorStatus::not_finite;
+    info_.row = s.perm()[row];
+    info_.pivot = values_[at];
+    for (int j = 0; j < s.num_pivots(); ++j)
+      if (row >= s.row_start(j) && row < s.row_start(j + 1)) info_.block = s.block(j);
+    info_.min_pivot_ratio = 0;
+    return info_;
+  }
+  prepare(options);
+  return eliminate();
 }
 
 FactorInfo Numeric::factorize(const SymmetricCsc& a, const FactorOptions& options) {
@@ -91,6 +130,11 @@ FactorInfo Numeric::factorize(const SymmetricCsc& a, const FactorOptions& option
     info_.min_pivot_ratio = 0;
     return info_;
   }
+  return eliminate();
+}
+
+FactorInfo Numeric::eliminate() {
+  const Symbolic& s = *symbolic_;
   double* v = values_.data();
   int processed = s.num_rows();  // rows with a completed pivot
   for (int k = 0; k < s.num_pivots(); ++k) {

@@ -56,6 +56,11 @@ class Numeric {
   // Loads a (same pattern as the symbolic phase's) and factors it.
   FactorInfo factorize(const SymmetricCsc& a, const FactorOptions& options = {});
   const FactorInfo& info() const { return info_; }
+  // Loading without a matrix (a caller assembling H straight into the factor's storage):
+  // begin_load() zeroes the packed values and returns them; the caller adds each stored entry p
+  // of the symbolic phase's pattern at symbolic().load_map()[p]; factorize_loaded() factors them.
+  std::span<double> begin_load();
+  FactorInfo factorize_loaded(const FactorOptions& options = {});
 
   // x = H^-1 b in place, b in the original row order; `nrhs` columns of length n, column-major
   // with leading dimension ld >= n. Requires a usable factorization.
@@ -71,6 +76,8 @@ class Numeric {
 
  private:
   bool load(const SymmetricCsc& a, const FactorOptions& options);  // false: a non-finite entry
+  void prepare(const FactorOptions& options);  // regularization and zero-pivot thresholds
+  FactorInfo eliminate();                      // the elimination and the inertia, into info_
   const Symbolic* symbolic_;
   std::vector<double> values_;   // packed blocks (size symbolic.num_values())
   std::vector<double> scratch_;  // L_{*,k} before it replaces E (size symbolic.scratch_size())

@@ -5,6 +5,7 @@
 #include <span>
 #include <vector>
 
+#include "solver/row_cache.h"
 #include "solver/system.h"
 #include "sparse/block_pattern.h"
 #include "sparse/csc.h"
@@ -17,8 +18,16 @@ class EqualityMatrix {
   // The pattern: every pair of equality blocks sharing a column is a dense block of H_0.
   explicit EqualityMatrix(const System& structure);
 
-  // H_0 + diag(eps_i (H_0)_ii) for this step: J_0 W J_0^T and the rows' compliance.
+  // H_0 + diag(eps_i (H_0)_ii) for this step, J_0 W J_0^T and the rows' compliance, into matrix().
   void assemble(const System& system);
+  // The same straight into another layout (the factor's packed blocks: no intermediate matrix):
+  // entry e of the products is added at target[index[e]] (index: of matrix()'s values remapped
+  // by remap()), with the rows' W J^T from `rows` (updated for `system`). target starts zeroed.
+  void assemble(const System& system, const RowCache& rows, std::span<double> target, std::span<const int64_t> index,
+                std::span<const int64_t> diagonal) const;
+  // index_ and diagonal_ through a map from matrix()'s value positions to another layout
+  // (Symbolic::load_map): the arguments of the assemble above.
+  void remap(std::span<const int32_t> map, std::vector<int64_t>* index, std::vector<int64_t>* diagonal) const;
 
   const SymmetricCsc& matrix() const { return h_; }
   const BlockPattern& blocks() const { return blocks_; }

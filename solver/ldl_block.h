@@ -18,15 +18,16 @@ namespace ldlpgs {
 class LdlBlock {
  public:
   LdlBlock(const System& structure, const std::string& ordering);
-  // Assembles H_0 + diag(eps_i (H_0)_ii) and factors it.
-  FactorInfo factorize(const System& system);
+  // Assembles H_0 + diag(eps_i (H_0)_ii) straight into the factor's packed storage and factors
+  // it (rows: the row cache, updated for `system`).
+  FactorInfo factorize(const System& system, const RowCache& rows);
   // One exact block step: dlambda_0 = (H_0 + E D_0)^-1 (R_0 - J_0 dV - E D_0 lambda_0),
   // lambda_0 += dlambda_0, dV += W J_0^T dlambda_0 (D_0 = diag(H_0) = the row cache's diag,
   // E = diag(eps_i)).
   void block_step(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv);
   // The exact solve of an equality-only system with the current factor: lambda = (H_0 + E D_0)^-1 R,
-  // dV = W J^T lambda (no warm start, no row cache).
-  void exact_solve(const System& system, std::span<double> lambda, std::span<double> dv);
+  // dV = W J^T lambda (no warm start).
+  void exact_solve(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv);
   const Symbolic& symbolic() const { return *symbolic_; }
 
  private:
@@ -34,6 +35,7 @@ class LdlBlock {
   std::unique_ptr<Symbolic> symbolic_;  // stable address: numeric_ points to it
   std::unique_ptr<Numeric> numeric_;
   std::vector<double> work_;  // the block's residual, then its dlambda (size rows of H_0)
+  std::vector<int64_t> packed_index_, packed_diagonal_;  // EqualityMatrix's positions in the factor's values
 };
 
 // ldl_pgs.cpp: ldl-pgs's iterations on a system with inequality rows, after the factorization

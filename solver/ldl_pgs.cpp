@@ -16,11 +16,12 @@ LdlBlock::LdlBlock(const System& structure, const std::string& ordering) : h_(st
   symbolic_ = std::make_unique<Symbolic>(Symbolic::analyze(h_.matrix(), h_.blocks(), o));
   numeric_ = std::make_unique<Numeric>(*symbolic_);
   work_.resize(h_.num_rows());
+  h_.remap(symbolic_->load_map(), &packed_index_, &packed_diagonal_);
 }
 
-FactorInfo LdlBlock::factorize(const System& system) {
-  h_.assemble(system);
-  return numeric_->factorize(h_.matrix());  // the compliance is in H_0's diagonal already
+FactorInfo LdlBlock::factorize(const System& system, const RowCache& rows) {
+  h_.assemble(system, rows, numeric_->begin_load(), packed_index_, packed_diagonal_);
+  return numeric_->factorize_loaded();  // the compliance is in H_0's diagonal already
 }
 
 void LdlBlock::block_step(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv) {
@@ -43,7 +44,8 @@ void LdlBlock::block_step(const System& system, const RowCache& rows, std::span<
   }
 }
 
-void LdlBlock::exact_solve(const System& system, std::span<double> lambda, std::span<double> dv) {
+void LdlBlock::exact_solve(const System& system, const RowCache& rows, std::span<double> lambda,
+                           std::span<double> dv) {
   int at = 0;
   for (int k : h_.system_blocks()) {
     const RowBlock& b = system.blocks[k];
@@ -51,13 +53,15 @@ void LdlBlock::exact_solve(const System& system, std::span<double> lambda, std::
   }
   if (!work_.empty()) numeric_->solve(work_);
   std::fill(lambda.begin(), lambda.end(), 0.0);
+  std::fill(dv.begin(), dv.end(), 0.0);
   at = 0;
   for (int k : h_.system_blocks()) {
     const RowBlock& b = system.blocks[k];
-    for (int r = 0; r < b.size; ++r) lambda[b.position + r] = work_[at++];
+    for (int r = 0; r < b.size; ++r, ++at) {
+      lambda[b.position + r] = work_[at];
+      add_row_impulse(system, rows, k, r, work_[at], dv);  // dV = W J^T lambda from the cached W J^T
+    }
   }
-  std::fill(dv.begin(), dv.end(), 0.0);
-  add_velocity_change(system, lambda, dv);
 }
 
 void ldl_pgs_iterate(const System& system, int iterations, HybridSchedule schedule, const RowCache& rows,

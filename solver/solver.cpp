@@ -42,8 +42,7 @@ class SolverState {
   RowCache rows;
   BlockCache blocks;
   std::unique_ptr<LdlBlock> ldl;  // ldl-pgs, direct
-  // ldl-pgs and direct on a system without inequality rows: one exact solve, no row cache and
-  // no sweeps (the talk's N-1 PGS sweeps would only move lambda the exact block then replaces)
+  // ldl-pgs and direct on a system without inequality rows: one exact solve and no sweeps (the talk's N-1 PGS sweeps would only move lambda the exact block then replaces)
   bool exact = false;
   FactorInfo factor;  // the last solve's factorization (ldl-pgs, direct)
 };
@@ -77,13 +76,9 @@ void warm_start(const System& system, std::span<double> lambda, std::span<double
 
 SolveResult Solver::solve(const System& system, std::span<double> lambda, std::span<double> dv) {
   SolverState& s = *state_;
-  if (s.ldl) {
-    s.factor = s.ldl->factorize(system);
-    if (!s.exact) s.rows.update(system);
-  } else {
-    s.rows.update(system);
-    if (options_.kind == SolverKind::block_gs) s.blocks.update(system);
-  }
+  s.rows.update(system);
+  if (s.ldl) s.factor = s.ldl->factorize(system, s.rows);
+  if (options_.kind == SolverKind::block_gs) s.blocks.update(system);
   return resolve(system, lambda, dv);
 }
 
@@ -97,7 +92,7 @@ SolveResult Solver::resolve(const System& system, std::span<double> lambda, std:
   SolveResult result;
   if (s.exact) {
     result.factor = s.factor;
-    if (result.ok()) s.ldl->exact_solve(system, lambda, dv);
+    if (result.ok()) s.ldl->exact_solve(system, s.rows, lambda, dv);
     return result;
   }
   warm_start(system, lambda, dv);

@@ -536,7 +536,7 @@ TEST(PostStabilize, NeverMakesAnUnconvergedLimitChainWorse) {
 // The correction must use the factor's own J_0 and W_0: dq = W_0 J_0^T (J_0 W_0 J_0^T)^-1 (-c)
 // is a projection (J_0 dq = -c). With the same factor but the Jacobian at the new pose, J_1 W_1
 // J_1^T is not what was factored, and the "projection" is not one. Both are written here with
-// the solver's own pieces (the factor of S_0, resolve with S_0 or S_1) on the tracked vehicle,
+// the solver's own pieces (the factor of S_0; dq from S_0's or S_1's W J^T) on the tracked vehicle,
 // one iteration per step, Baumgarte left on.
 TEST(PostStabilize, TheFactorsOwnJacobianCorrectsWhereTheNewOneDoesNot) {
   const Mechanism start = scene("tracked-vehicle");
@@ -557,7 +557,10 @@ TEST(PostStabilize, TheFactorsOwnJacobianCorrectsWhereTheNewOneDoesNot) {
         for (int r = 0; r < rows.rows; ++r) s0.rhs[s0.blocks[k].position + r] = s1.rhs[s1.blocks[k].position + r] = -rows.c[r];
       }
       if (!projector.solve(s0, mu, dq).ok()) return kUnbounded;  // factors H_0
-      if (!own_jacobian) projector.resolve(s1, mu, dq);          // H_0's factor, J_1 and W_1
+      if (!own_jacobian) {                                       // H_0's factor, J_1 and W_1
+        std::fill(dq.begin(), dq.end(), 0.0);
+        add_velocity_change(s1, mu, dq);
+      }
       int col = 0;
       for (int b = 0; b < static_cast<int>(m.bodies.size()); ++b) {
         if (m.bodies[b].is_static) continue;
