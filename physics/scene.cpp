@@ -2,7 +2,8 @@
 // initial pose):
 //   {"name": "...", "gravity": [0, -9.81, 0], "timestep": 0.01,
 //    "bodies": [{"name": "b1", "mass": 1, "inertia": [Ix, Iy, Iz], "position": [x, y, z],
-//                "orientation": [w, x, y, z], "linear_velocity": [..], "angular_velocity": [..]},
+//                "orientation": [w, x, y, z], "linear_velocity": [..], "angular_velocity": [..],
+//                "force": [fx, fy, fz], "torque": [tx, ty, tz]},
 //               {"name": "ground", "static": true, "position": [x, y, z], "orientation": [..]}],
 //    "constraints": [{"type": "ball" | "hinge" | "prismatic" | "cylindrical" | "weld",
 //                     "bodies": ["a", "b"], "anchor": [x, y, z], "axis": [x, y, z]},
@@ -13,8 +14,11 @@
 // Optional: the scene's name (default: the file's stem), gravity and timestep (the Mechanism
 // defaults), constraints (none), a body's orientation (identity) and velocities (zero), the axis
 // of a ball (unused) and of a weld (x), the length of a rod or rope (the anchors' initial
-// distance). A static body has only name, static, position and orientation. Every other key is
-// refused, so that a typo ("positon") is never silently a default.
+// distance), a body's force and torque (zero): a constant load besides gravity, applied every
+// step, a force through the centre of mass (N) and a torque (N m), world frame
+// (RigidBody::applied_force, applied_torque). A static body has only name, static, position and
+// orientation (a force or torque on it is refused: it never moves). Every other key is refused,
+// so that a typo ("positon") is never silently a default.
 #include "physics/scene.h"
 
 #include <algorithm>
@@ -191,15 +195,19 @@ class Entry {
 void parse_body_data(const Entry& e, RigidBody* b) {
   b->is_static = e.boolean_or("static", false);
   if (b->is_static) {
+    for (const char* load : {"force", "torque"})
+      if (e.has(load)) e.fail(cat("a static body cannot carry a ", load, " (it never moves)"));
     e.allow_only({"name", "static", "position", "orientation"}, "a static body");
   } else {
-    e.allow_only(
-        {"name", "static", "mass", "inertia", "position", "orientation", "linear_velocity", "angular_velocity"},
-        "a body");
+    e.allow_only({"name", "static", "mass", "inertia", "position", "orientation", "linear_velocity",
+                  "angular_velocity", "force", "torque"},
+                 "a body");
     b->mass = e.positive("mass");
     b->inertia = e.positive_vector("inertia");
     if (e.has("linear_velocity")) b->linear_velocity = e.vector("linear_velocity");
     if (e.has("angular_velocity")) b->angular_velocity = e.vector("angular_velocity");
+    if (e.has("force")) b->applied_force = e.vector("force");
+    if (e.has("torque")) b->applied_torque = e.vector("torque");
   }
   b->position = e.vector("position");
   if (e.has("orientation")) b->orientation = e.orientation("orientation");
@@ -453,8 +461,8 @@ json to_json(const Eigen::Vector3d& v) { return json::array({v.x() + 0.0, v.y() 
 // Inline JSON with the keys in the order the format lists them (nlohmann sorts them).
 int key_rank(const std::string& key) {
   static constexpr std::string_view order[] = {"name", "static", "type", "bodies", "mass", "inertia", "position",
-                                               "orientation", "linear_velocity", "angular_velocity", "anchor",
-                                               "anchors", "axis", "length", "min", "max"};
+                                               "orientation", "linear_velocity", "angular_velocity", "force",
+                                               "torque", "anchor", "anchors", "axis", "length", "min", "max"};
   const auto it = std::find(std::begin(order), std::end(order), key);
   return static_cast<int>(it - std::begin(order));
 }
@@ -509,6 +517,9 @@ json scene_to_json(const Mechanism& m) {
       // zero velocities are the default: left out to keep files short
       if (!b.linear_velocity.isZero(0)) o["linear_velocity"] = to_json(b.linear_velocity);
       if (!b.angular_velocity.isZero(0)) o["angular_velocity"] = to_json(b.angular_velocity);
+      // so are zero loads
+      if (!b.applied_force.isZero(0)) o["force"] = to_json(b.applied_force);
+      if (!b.applied_torque.isZero(0)) o["torque"] = to_json(b.applied_torque);
     }
     bodies.push_back(std::move(o));
   }

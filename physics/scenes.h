@@ -10,6 +10,9 @@
 //   rope-bridge              planks joined by ropes and rods between two static posts
 //   tracked-vehicle          the talk's: a main body and two closed tracks of hinged links
 //   multi-wheeled-vehicle    the talk's: every wheel constraint on one heavy chassis (H dense)
+//   mechanism-50             a Strandbeest on a stand: 50 joints, the talk's mechanism in size
+//   driven-crank             a slider-crank from rest, its crank driven by a constant torque
+//                            (gravity off: the torque's work is the kinetic energy)
 #include <string>
 #include <string_view>
 #include <vector>

@@ -13,6 +13,11 @@
 // Every constraint on the body moves to one shard with its world anchors and axes unchanged
 // (anchor_local -> anchor_local - s_j e in the shared orientation, frames as they were), so
 // c, and J applied to the rigid velocity field the welds impose, are what they were.
+//
+// The body's constant load (applied force F through p, torque T) goes to the first shard alone,
+// at its centre c_0: F through p is F through c_0 plus the couple (p - c_0) x F, so the shard
+// carries F and T + (p - c_0) x F; the total force and the total moment about p are the body's.
+// (Every shard a copy of the load would multiply it by k.)
 #include "physics/shatter.h"
 
 #include <algorithm>
@@ -101,6 +106,12 @@ Mechanism shatter_body(const Mechanism& mechanism, int body, int k, std::vector<
     // The rigid velocity field of the body, sampled at the shard's centre.
     shard.linear_velocity = original.linear_velocity + original.angular_velocity.cross(r);
     if (j == 0) {
+      shard.applied_torque = original.applied_torque + (-r).cross(original.applied_force);  // (p - c_0) x F
+    } else {
+      shard.applied_force.setZero();
+      shard.applied_torque.setZero();
+    }
+    if (j == 0) {
       ids[j] = body;
       m.bodies[body] = shard;
     } else {
@@ -160,6 +171,16 @@ Mechanism shatter_body(const Mechanism& mechanism, int body, int k, std::vector<
   assert(std::abs(mass - original.mass) <= 1e-12 * original.mass);
   assert((centre - original.position).norm() <= 1e-12 * (1 + original.position.norm() + spacing * k));
   assert((inertia_about(m, ids, centre) - original.inertia_world()).norm() <= 1e-10 * scale);
+  // and carry its load: total force, and total moment about its centre
+  Eigen::Vector3d force = Eigen::Vector3d::Zero(), moment = Eigen::Vector3d::Zero();
+  for (int i : ids) {
+    const RigidBody& s = m.bodies[i];
+    force += s.applied_force;
+    moment += s.applied_torque + (s.position - original.position).cross(s.applied_force);
+  }
+  const double load = original.applied_force.norm() * (1 + spacing * k) + original.applied_torque.norm();
+  assert((force - original.applied_force).norm() <= 1e-12 * (1 + load));
+  assert((moment - original.applied_torque).norm() <= 1e-12 * (1 + load));
 #endif
   if (shard_indices) *shard_indices = ids;
   return m;

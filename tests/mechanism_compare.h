@@ -8,8 +8,8 @@
 
 namespace ldlpgs::testing {
 
-// Every body and every constraint's local data equal to within tol (static bodies: name,
-// position and orientation, the only data a file gives them).
+// Every body (loads included) and every constraint's local data equal to within tol (static
+// bodies: name, position and orientation, the only data a file gives them).
 void expect_same(const Mechanism& a, const Mechanism& b, double tol) {
   EXPECT_EQ(a.name, b.name);
   EXPECT_LE((a.gravity - b.gravity).norm(), tol);
@@ -27,6 +27,8 @@ void expect_same(const Mechanism& a, const Mechanism& b, double tol) {
     EXPECT_LE((x.inertia - y.inertia).norm(), tol * x.inertia.norm());
     EXPECT_LE((x.linear_velocity - y.linear_velocity).norm(), tol);
     EXPECT_LE((x.angular_velocity - y.angular_velocity).norm(), tol);
+    EXPECT_LE((x.applied_force - y.applied_force).norm(), tol * (1 + x.applied_force.norm()));
+    EXPECT_LE((x.applied_torque - y.applied_torque).norm(), tol * (1 + x.applied_torque.norm()));
   }
   ASSERT_EQ(a.constraints.size(), b.constraints.size());
   for (size_t i = 0; i < a.constraints.size(); ++i) {

@@ -266,6 +266,41 @@ TEST(Scene, RoundTripOfAMovedMechanismKeepsItsPose) {
   }
 }
 
+TEST(Scene, LoadsReadAsWrittenAndRoundTrip) {
+  // read: "force" and "torque" are the body's constant load, zero when left out
+  json s = valid();
+  s["bodies"][2]["force"] = {1.5, -2, 0.25};
+  s["bodies"][2]["torque"] = {0, 0, 3};
+  s["bodies"][1]["torque"] = {-0.5, 0, 0};
+  const Mechanism read = parse_scene(s, "scene.json");
+  EXPECT_EQ(read.bodies[2].applied_force, Eigen::Vector3d(1.5, -2, 0.25));
+  EXPECT_EQ(read.bodies[2].applied_torque, Eigen::Vector3d(0, 0, 3));
+  EXPECT_EQ(read.bodies[1].applied_force, Eigen::Vector3d::Zero());
+  EXPECT_EQ(read.bodies[1].applied_torque, Eigen::Vector3d(-0.5, 0, 0));
+  // written when non-zero only, and read back (expect_same compares the loads)
+  Mechanism m = every_type();
+  m.bodies[2].applied_force = Eigen::Vector3d(0.1, -30, 7);
+  m.bodies[2].applied_torque = Eigen::Vector3d(1.0 / 3, 0, -2);
+  m.bodies[5].applied_torque = Eigen::Vector3d(0, 0, 12.5);
+  m.bodies[7].applied_force = Eigen::Vector3d(-4, 0, 0);
+  const json j = scene_to_json(m);
+  for (size_t i = 0; i < m.bodies.size(); ++i) {
+    EXPECT_EQ(j["bodies"][i].contains("force"), !m.bodies[i].applied_force.isZero(0)) << i;
+    EXPECT_EQ(j["bodies"][i].contains("torque"), !m.bodies[i].applied_torque.isZero(0)) << i;
+  }
+  EXPECT_EQ(j["bodies"][5]["torque"], json({0.0, 0.0, 12.5}));
+  expect_same(parse_scene(j, "round trip"), m, 1e-12);
+  const std::string path = temp_path("loads.json");
+  save_scene(m, path);
+  const Mechanism back = load_scene(path);
+  expect_same(back, m, 1e-12);
+  // world-frame vectors written as the shortest text that reads back: exact
+  for (size_t i = 0; i < m.bodies.size(); ++i) {
+    EXPECT_EQ(back.bodies[i].applied_force, m.bodies[i].applied_force) << i;
+    EXPECT_EQ(back.bodies[i].applied_torque, m.bodies[i].applied_torque) << i;
+  }
+}
+
 TEST(Scene, SavedFileHasOneLinePerBodyAndConstraint) {
   const Mechanism m = every_type();
   const std::string path = temp_path("lines.json");
@@ -370,6 +405,12 @@ TEST(SceneBadInput, NonFiniteNumber) {
   s = valid();
   s["constraints"][3]["max"] = inf;
   expect_error(s, "constraints[3]", {"max must be finite"});
+  s = valid();
+  s["bodies"][1]["force"] = {0, nan, 0};
+  expect_error(s, "bodies[1] (\"b1\")", {"force must be finite", "nan"});
+  s = valid();
+  s["bodies"][2]["torque"] = {0, 0, -inf};
+  expect_error(s, "bodies[2] (\"b2\")", {"torque must be finite", "-inf"});
   // in a file: a number too large for a double, refused where it stands
   std::string text = valid().dump(1);
   text.replace(text.find("\"mass\": 2"), 9, "\"mass\": 1e400");
@@ -380,6 +421,16 @@ TEST(SceneBadInput, NonFiniteNumber) {
   const int column = static_cast<int>(at - text.rfind('\n', at));
   EXPECT_EQ(message, path + ":" + std::to_string(line) + ":" + std::to_string(column) +
                          ": number 1e400 is out of the range of a double");
+}
+
+TEST(SceneBadInput, LoadOnAStaticBody) {
+  // a static body never moves: a load on it would do nothing, so it is a mistake in the file
+  json s = valid();
+  s["bodies"][0]["force"] = {0, 1, 0};
+  expect_error(s, "bodies[0] (\"ground\")", {"a static body cannot carry a force"});
+  s = valid();
+  s["bodies"][3]["torque"] = {0, 0, 0};  // even a zero one
+  expect_error(s, "bodies[3] (\"wall\")", {"a static body cannot carry a torque"});
 }
 
 TEST(SceneBadInput, WrongArrayLength) {
@@ -401,6 +452,9 @@ TEST(SceneBadInput, WrongArrayLength) {
   s = valid();
   s["gravity"] = {0, -9.81, 0, 1};
   expect_error(s, "", {"gravity must be an array of 3 numbers"});
+  s = valid();
+  s["bodies"][2]["force"] = {1, 2};
+  expect_error(s, "bodies[2] (\"b2\")", {"force must be an array of 3 numbers"});
 }
 
 TEST(SceneBadInput, WrongJsonType) {

@@ -1,8 +1,9 @@
 // physics/shatter: the shards are the body (mass, centre of mass and inertia tensor summed here
-// independently, by the parallel-axis theorem), every constraint still holds and sees the same
-// velocities, the degrees are balanced, shatter() lowers the flops of the multi-wheeled vehicle
-// (H dense: the flops of a dense LDL^T, known in closed form) and leaves a chain alone, and the
-// shattered mechanisms move as the whole ones do under the direct solver.
+// independently, by the parallel-axis theorem) and carry its load (total force and moment),
+// every constraint still holds and sees the same velocities, the degrees are balanced, shatter()
+// lowers the flops of the multi-wheeled vehicle (H dense: the flops of a dense LDL^T, known in
+// closed form) and leaves a chain alone, and the shattered mechanisms move as the whole ones do
+// under the direct solver.
 #include "physics/shatter.h"
 
 #include <gtest/gtest.h>
@@ -199,6 +200,45 @@ TEST(Shatter, ShardsHaveTheBodysMassCentreAndInertia) {
       EXPECT_LE((whole.linear_velocity - hub.linear_velocity).norm(), 1e-12);
       EXPECT_LE((whole.angular_velocity - hub.angular_velocity).norm(), 1e-12);
       EXPECT_LE((whole.orientation.coeffs() - hub.orientation.coeffs()).norm(), 1e-12);
+    }
+  }
+}
+
+// A constant load on the body (force F through its centre p, torque T) is the same load on its
+// shards: their total force is F and their total moment about p, sum_j T_j + (c_j - p) x F_j,
+// is T (else the welded shards would accelerate and turn differently from the body). The other
+// bodies keep theirs.
+TEST(Shatter, ShardsCarryTheBodysLoad) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    Mechanism m = hub_mechanism(seed);
+    std::mt19937 rng(100 + seed);
+    const int h = m.find_body("hub");
+    for (RigidBody& b : m.bodies) {
+      if (b.is_static) continue;
+      b.applied_force = random_vector(rng, 50);
+      b.applied_torque = random_vector(rng, 20);
+    }
+    const RigidBody& hub = m.bodies[h];
+    for (int k = 2; k <= 7; ++k) {
+      SCOPED_TRACE(::testing::Message() << "seed " << seed << ", k " << k);
+      std::vector<int> ids;
+      const Mechanism s = shatter_body(m, h, k, &ids);
+      Vector3d force = Vector3d::Zero(), moment = Vector3d::Zero();
+      for (int i : ids) {
+        const RigidBody& shard = s.bodies[i];
+        force += shard.applied_force;
+        moment += shard.applied_torque + (shard.position - hub.position).cross(shard.applied_force);
+      }
+      const double scale = hub.applied_force.norm() + hub.applied_torque.norm();
+      EXPECT_LE((force - hub.applied_force).norm(), 1e-14 * scale) << force.transpose();
+      EXPECT_LE((moment - hub.applied_torque).norm(), 1e-13 * scale) << moment.transpose();
+      // not the load k times over
+      EXPECT_GT((force - k * hub.applied_force).norm(), 0.5 * hub.applied_force.norm());
+      for (size_t b = 0; b < m.bodies.size(); ++b) {
+        if (static_cast<int>(b) == h) continue;
+        EXPECT_EQ(s.bodies[b].applied_force, m.bodies[b].applied_force);
+        EXPECT_EQ(s.bodies[b].applied_torque, m.bodies[b].applied_torque);
+      }
     }
   }
 }
