@@ -44,7 +44,7 @@ struct StepArgs {
   std::string scene, solver = "ldl-pgs", ordering = "meca", trace;
   std::string schedule = to_string(SolverOptions{}.schedule);
   int iterations = 10, steps = 200, post_stabilize = StepOptions{}.post_stabilize;
-  bool post_stabilize_refactor = false;
+  bool post_stabilize_refactor = false, curvature_target = false;
   double timestep = 0, compliance = StepOptions{}.compliance, baumgarte = StepOptions{}.baumgarte;
   bool json = false;
   ShatterArgs shatter;
@@ -74,6 +74,7 @@ StepOptions step_options(const StepArgs& a) {
   o.baumgarte = a.baumgarte;
   o.post_stabilize = a.post_stabilize;
   o.post_stabilize_refactor = a.post_stabilize_refactor;
+  o.curvature_target = a.curvature_target;
   o.diagnostics = true;
   return o;
 }
@@ -152,6 +153,7 @@ int run_step(const StepArgs& a) {
                         {"schedule", a.schedule},
                         {"post_stabilize", sim.options().post_stabilize},
                         {"post_stabilize_refactor", a.post_stabilize_refactor},
+                        {"curvature_target", a.curvature_target},
                         {"post_stabilize_iterations", post_iterations},
                         {"post_stabilize_skipped", sim.post_stabilize_skipped()},
                         {"post_stabilize_rejected", sim.post_stabilize_rejected()},
@@ -213,6 +215,8 @@ Command add_step_command(CLI::App& app) {
                   "default 8 with ldl-pgs and direct, 0 with pgs and block-gs)");
   cmd->add_flag("--post-stabilize-refactor", a->post_stabilize_refactor,
                 "Refactor at the corrected pose in each post-stabilization iteration (Newton)");
+  cmd->add_flag("--curvature-target", a->curvature_target,
+                "Equality rows' velocity target includes the constraints' curvature along the motion (energy-consistent)");
   cmd->add_option("--trace", a->trace, "Write per step and body: step,time,body,x,y,z,qw,qx,qy,qz (CSV)");
   cmd->add_flag("--json", a->json, "Print one JSON object");
   add_shatter_options(cmd, &a->shatter);

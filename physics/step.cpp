@@ -100,8 +100,11 @@ ConstraintRows write_jacobian(const Mechanism& m, int k, System* s) {
 // The velocity step's values, each constraint evaluated once: W, J, R = target - J (V0 + W F dt)
 // and the compliance. v0 (size 6 columns) receives V0 + W F dt; load (size 6 bodies, or empty)
 // holds the forces and torques applied for this step on top of gravity and the constant loads.
+// predicted (size rows, or empty): c at q0 + dt V, the pose the current velocities V reach,
+// for the curvature target (StepOptions::curvature_target).
 void write_velocity_system(const Mechanism& m, const StepOptions& options, const std::vector<int>& column,
-                           std::span<const double> load, std::span<double> v0, System* s) {
+                           std::span<const double> load, std::span<const double> predicted, std::span<double> v0,
+                           System* s) {
   const double dt = m.timestep;
   write_inverse_mass(m, column, s);
   for (size_t b = 0; b < m.bodies.size(); ++b) {
@@ -133,9 +136,21 @@ void write_velocity_system(const Mechanism& m, const StepOptions& options, const
         if (cb >= 0) jv += j[6 + x] * v0[6 * cb + x];
       }
       const double cv = rows.c[r];
+      const int i = s->blocks[k].position + r;
       double target = -options.baumgarte * cv / dt;
       if (!is_equality(con.type) && cv >= 0) target = -cv / dt;  // speculative: close the gap, not cross
-      s->rhs[s->blocks[k].position + r] = target - jv;
+      if (!predicted.empty() && is_equality(con.type)) {
+        // c(q0 + dt V) = c0 + dt J V + (dt^2 / 2) V^T c'' V + O(dt^3): the curvature term, from
+        // the current velocities, asks J V1 = -(dt / 2) V^T c'' V, so that the chord q0 -> q1 is
+        // tangent at its midpoint (a particle on a circle then keeps |x| and |v| exactly).
+        const RigidBody &a = m.bodies[con.body_a], &b = m.bodies[con.body_b];
+        double jv_now = 0;
+        for (int x = 0; x < 3; ++x)
+          jv_now += j[x] * a.linear_velocity[x] + j[3 + x] * a.angular_velocity[x] + j[6 + x] * b.linear_velocity[x] +
+                    j[9 + x] * b.angular_velocity[x];
+        target -= (predicted[i] - cv - dt * jv_now) / dt;
+      }
+      s->rhs[i] = target - jv;
     }
   }
   std::fill(s->compliance.begin(), s->compliance.end(), options.compliance);
@@ -163,7 +178,7 @@ System build_system(const Mechanism& m, const StepOptions& options) {
   const std::vector<int> column = body_columns(m);
   System s = system_structure(m, column);
   std::vector<double> v0(6 * static_cast<size_t>(s.num_columns));
-  write_velocity_system(m, options, column, {}, v0, &s);
+  write_velocity_system(m, options, column, {}, {}, v0, &s);
   return s;
 }
 
@@ -177,6 +192,7 @@ Simulation::Simulation(Mechanism mechanism, const StepOptions& options)
       dv_(6 * static_cast<size_t>(mechanism_.num_dynamic_bodies()), 0.0),
       v0_(dv_.size(), 0.0),
       mu_(lambda_.size(), 0.0),
+      predicted_(lambda_.size(), 0.0),
       load_(6 * mechanism_.bodies.size(), 0.0),
       saved_position_(mechanism_.bodies.size()),
       saved_orientation_(mechanism_.bodies.size()) {
@@ -199,7 +215,26 @@ Simulation::~Simulation() = default;
 Simulation::Simulation(Simulation&&) noexcept = default;
 Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 
-void Simulation::velocity_system() { write_velocity_system(mechanism_, options_, column_, load_, v0_, &system_); }
+void Simulation::velocity_system() {
+  if (options_.curvature_target) {
+    // c at the pose the current velocities reach in dt (positions only; restored after)
+    save_pose();
+    const double dt = mechanism_.timestep;
+    for (RigidBody& b : mechanism_.bodies) {
+      if (b.is_static) continue;
+      b.position += b.linear_velocity * dt;
+      rotate(b, b.angular_velocity * dt);
+    }
+    for (int k = 0; k < static_cast<int>(mechanism_.constraints.size()); ++k) {
+      const Constraint& con = mechanism_.constraints[k];
+      const ConstraintRows rows = evaluate(con, mechanism_.bodies[con.body_a], mechanism_.bodies[con.body_b]);
+      for (int r = 0; r < rows.rows; ++r) predicted_[system_.blocks[k].position + r] = rows.c[r];
+    }
+    restore_pose();
+  }
+  write_velocity_system(mechanism_, options_, column_, load_, options_.curvature_target ? predicted_ : std::span<const double>(),
+                        v0_, &system_);
+}
 
 double Simulation::position_rhs(bool with_jacobian) {
   if (with_jacobian) write_inverse_mass(mechanism_, column_, &system_);

@@ -56,6 +56,10 @@ struct StepOptions {
   // inequality-pgs): ropes nearly redundant with rods need the position solve converged on their
   // rows, or the corrections feed a slow instability (the rope bridge: papers/physics.md).
   int post_stabilize_sweeps = 40;
+  // Equality rows' velocity target gains the constraint's curvature along the current motion,
+  // -(dt/2) V^T c'' V, measured as c(q0 + dt V) - c0 - dt J V (one more evaluation of every
+  // constraint per step): the energy-consistent variant of papers/physics.md.
+  bool curvature_target = false;
   // Fill StepReport's error, velocity residual and energy (costs one more evaluation of every
   // constraint per step; the CLI asks, a library stepping for speed need not).
   bool diagnostics = false;
@@ -156,6 +160,7 @@ class Simulation {
   std::vector<double> dv_;      // W J^T lambda (size 6 dynamic bodies)
   std::vector<double> v0_;      // V0 + W F dt (size 6 dynamic bodies)
   std::vector<double> mu_;      // post-stabilization's dmu (size rows)
+  std::vector<double> predicted_;  // curvature_target: c at q0 + dt V (size rows)
   std::vector<double> load_;    // forces and torques applied for the next step (size 6 bodies)
   std::vector<Eigen::Vector3d> saved_position_;       // the pose before a correction (size bodies)
   std::vector<Eigen::Quaterniond> saved_orientation_;  // (size bodies)
