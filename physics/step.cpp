@@ -85,10 +85,11 @@ void write_inverse_mass(const Mechanism& m, const std::vector<int>& column, Syst
   }
 }
 
-// Constraint k's rows at the current pose: its Jacobian into the System's cells (returned, with c).
-ConstraintRows write_jacobian(const Mechanism& m, int k, System* s) {
+// Constraint k's rows at the current pose (`known`: already evaluated there): its Jacobian into
+// the System's cells (returned, with c).
+ConstraintRows write_jacobian(const Mechanism& m, int k, System* s, const ConstraintRows* known = nullptr) {
   const Constraint& con = m.constraints[k];
-  const ConstraintRows rows = evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b]);
+  const ConstraintRows rows = known ? *known : evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b]);
   for (int r = 0; r < rows.rows; ++r) {
     const double* j = rows.jacobian.data() + 12 * r;
     std::copy(j, j + 6, s->cell_a(k) + 6 * r);
@@ -101,10 +102,11 @@ ConstraintRows write_jacobian(const Mechanism& m, int k, System* s) {
 // and the compliance. v0 (size 6 columns) receives V0 + W F dt; load (size 6 bodies, or empty)
 // holds the forces and torques applied for this step on top of gravity and the constant loads.
 // predicted (size rows, or empty): c at q0 + dt V, the pose the current velocities V reach,
-// for the curvature target (StepOptions::curvature_target).
+// for the curvature target (StepOptions::curvature_target). known (size constraints, or empty):
+// the constraints already evaluated at this pose.
 void write_velocity_system(const Mechanism& m, const StepOptions& options, const std::vector<int>& column,
-                           std::span<const double> load, std::span<const double> predicted, std::span<double> v0,
-                           System* s) {
+                           std::span<const double> load, std::span<const double> predicted,
+                           std::span<const ConstraintRows> known, std::span<double> v0, System* s) {
   const double dt = m.timestep;
   write_inverse_mass(m, column, s);
   for (size_t b = 0; b < m.bodies.size(); ++b) {
@@ -126,7 +128,7 @@ void write_velocity_system(const Mechanism& m, const StepOptions& options, const
   }
   for (int k = 0; k < static_cast<int>(m.constraints.size()); ++k) {
     const Constraint& con = m.constraints[k];
-    const ConstraintRows rows = write_jacobian(m, k, s);
+    const ConstraintRows rows = write_jacobian(m, k, s, known.empty() ? nullptr : &known[k]);
     const int ca = column[con.body_a], cb = column[con.body_b];
     for (int r = 0; r < rows.rows; ++r) {
       const double* j = rows.jacobian.data() + 12 * r;
@@ -178,7 +180,7 @@ System build_system(const Mechanism& m, const StepOptions& options) {
   const std::vector<int> column = body_columns(m);
   System s = system_structure(m, column);
   std::vector<double> v0(6 * static_cast<size_t>(s.num_columns));
-  write_velocity_system(m, options, column, {}, {}, v0, &s);
+  write_velocity_system(m, options, column, {}, {}, {}, v0, &s);
   return s;
 }
 
@@ -193,6 +195,7 @@ Simulation::Simulation(Mechanism mechanism, const StepOptions& options)
       v0_(dv_.size(), 0.0),
       mu_(lambda_.size(), 0.0),
       predicted_(lambda_.size(), 0.0),
+      evaluated_(mechanism_.constraints.size()),
       load_(6 * mechanism_.bodies.size(), 0.0),
       saved_position_(mechanism_.bodies.size()),
       saved_orientation_(mechanism_.bodies.size()) {
@@ -232,8 +235,11 @@ void Simulation::velocity_system() {
     }
     restore_pose();
   }
-  write_velocity_system(mechanism_, options_, column_, load_, options_.curvature_target ? predicted_ : std::span<const double>(),
-                        v0_, &system_);
+  // The last post-stabilization evaluated every constraint at this very pose (nothing moved it
+  // since): its rows are this step's, one evaluation saved per step.
+  write_velocity_system(mechanism_, options_, column_, load_,
+                        options_.curvature_target ? predicted_ : std::span<const double>(),
+                        evaluated_valid_ ? evaluated_ : std::span<const ConstraintRows>(), v0_, &system_);
 }
 
 double Simulation::position_rhs(bool with_jacobian) {
@@ -242,8 +248,9 @@ double Simulation::position_rhs(bool with_jacobian) {
   double worst = 0;
   for (int k = 0; k < static_cast<int>(m.constraints.size()); ++k) {
     const Constraint& con = m.constraints[k];
-    const ConstraintRows rows =
-        with_jacobian ? write_jacobian(m, k, &system_) : evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b]);
+    evaluated_[k] = evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b]);
+    const ConstraintRows& rows = evaluated_[k];
+    if (with_jacobian) write_jacobian(m, k, &system_, &rows);
     // (H_0 + E D_0) dmu = -c; an inequality row (c >= 0 respected, dmu >= 0) then asks only
     // J dq >= -c: a respected gap stays open, a violated one is closed.
     const bool equality = is_equality(con.type);
@@ -252,6 +259,7 @@ double Simulation::position_rhs(bool with_jacobian) {
       worst = std::max(worst, equality ? std::abs(rows.c[r]) : -rows.c[r]);
     }
   }
+  evaluated_valid_ = true;
   return worst;
 }
 
@@ -268,6 +276,7 @@ bool Simulation::post_stabilize(StepReport* report) {
     if (!(error < previous)) {
       if (it > 0) {
         restore_pose();
+        evaluated_valid_ = false;
         --report->post_stabilize_iterations;
         ++post_stabilize_rejected_;
       }
@@ -282,6 +291,7 @@ bool Simulation::post_stabilize(StepReport* report) {
     if (refactor || (projector_ && it == 0)) r = solver.solve(system_, mu_, dv_);  // (sweeps: the projector's own)
     else r = solver.resolve(system_, mu_, dv_, sweeps, HybridSchedule::inequality_pgs);
     if (!r.ok()) return false;
+    evaluated_valid_ = false;
     int c = 0;
     for (RigidBody& b : mechanism_.bodies) {
       if (b.is_static) continue;
@@ -340,6 +350,7 @@ StepReport Simulation::step() {
     rotate(b, b.angular_velocity * dt);
     b.angular_velocity = b.inverse_inertia_world() * momentum;
   }
+  evaluated_valid_ = false;  // the pose moved
   std::fill(load_.begin(), load_.end(), 0.0);
   if (options_.post_stabilize > 0) {
     // A failed factorization (report.result) leaves nothing to project with: skipped, counted.
@@ -374,12 +385,14 @@ void require_finite(const Eigen::Vector3d& v, const char* what, int body) {
 }  // namespace
 
 void Simulation::set_position(int body, const Eigen::Vector3d& position) {
+  evaluated_valid_ = false;  // (even if refused below: nothing is lost but one evaluation)
   RigidBody& b = writable(body, "set_position", false);
   require_finite(position, "set_position", body);
   b.position = position;
 }
 
 void Simulation::set_orientation(int body, const Eigen::Quaterniond& orientation) {
+  evaluated_valid_ = false;  // (even if refused below: nothing is lost but one evaluation)
   RigidBody& b = writable(body, "set_orientation", false);
   const double norm = orientation.norm();
   if (!std::isfinite(norm) || std::abs(norm - 1) > 1e-6)
@@ -436,6 +449,7 @@ void Simulation::get_velocities(std::span<double> out) const {
 
 // The array setters check everything before writing anything: a refused call changes nothing.
 void Simulation::set_positions(std::span<const double> in) {
+  evaluated_valid_ = false;  // (even if refused below: nothing is lost but one evaluation)
   require_size(in.size(), 3, mechanism_.bodies.size(), "set_positions");
   for (size_t b = 0; b < mechanism_.bodies.size(); ++b)
     require_finite(Eigen::Vector3d(in[3 * b], in[3 * b + 1], in[3 * b + 2]), "set_positions", static_cast<int>(b));
@@ -444,6 +458,7 @@ void Simulation::set_positions(std::span<const double> in) {
 }
 
 void Simulation::set_orientations(std::span<const double> in) {
+  evaluated_valid_ = false;  // (even if refused below: nothing is lost but one evaluation)
   require_size(in.size(), 4, mechanism_.bodies.size(), "set_orientations");
   const auto at = [&](size_t b) { return Eigen::Quaterniond(in[4 * b], in[4 * b + 1], in[4 * b + 2], in[4 * b + 3]); };
   for (size_t b = 0; b < mechanism_.bodies.size(); ++b) {

@@ -161,6 +161,8 @@ class Simulation {
   std::vector<double> v0_;      // V0 + W F dt (size 6 dynamic bodies)
   std::vector<double> mu_;      // post-stabilization's dmu (size rows)
   std::vector<double> predicted_;  // curvature_target: c at q0 + dt V (size rows)
+  std::vector<ConstraintRows> evaluated_;  // the constraints at the last pose position_rhs saw (size constraints)
+  bool evaluated_valid_ = false;           // ... and the bodies are still there
   std::vector<double> load_;    // forces and torques applied for the next step (size 6 bodies)
   std::vector<Eigen::Vector3d> saved_position_;       // the pose before a correction (size bodies)
   std::vector<Eigen::Quaterniond> saved_orientation_;  // (size bodies)
