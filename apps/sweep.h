@@ -13,7 +13,7 @@
 namespace ldlpgs::cli {
 
 // The hard cases: heavy-load chains at mass ratios 1e1..1e6, chains of 10 to 1000 links, the
-// four-bar, the vehicles, the ragdoll (quick: fewer of them).
+// four-bar, the torque-driven crank, the vehicles, the ragdoll (quick: fewer of them).
 std::vector<std::string> sweep_cases(bool full);
 std::vector<int> sweep_iterations(bool full);
 
@@ -33,7 +33,8 @@ struct SweepPoint {
 };
 
 // An energy blow-up: the mechanism gained more than it takes to lift all of it by its own size
-// against gravity, plus its initial kinetic energy (at least 1 J). Gravity is conservative and
+// against gravity, plus its initial kinetic energy (at least 1 J), beyond the work its constant
+// loads (RigidBody::applied_force, applied_torque) did. Gravity is conservative and
 // Baumgarte's correction moves positions by a fraction of the error, so a sound step cannot
 // gain that; the test does not depend on where potential energy is zero.
 double blow_up_energy(const Mechanism& m);
