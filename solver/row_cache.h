@@ -13,6 +13,7 @@ namespace ldlpgs {
 struct RowCache {
   std::vector<double> wjt;   // W J_i^T per row: 6 for column a then 6 for column b (size 12 num_rows)
   std::vector<double> diag;  // H_ii (size num_rows)
+  std::vector<char> separable;  // W of the velocity block has zero coupling blocks (size num_columns)
   void update(const System& system);
 };
 

@@ -18,9 +18,10 @@ struct Dense {
 };
 
 // A chain-like random system: block k couples columns k mod c and (k+1) mod c (or a static
-// -1 for every 4th), W = blockdiag(I/m, R diag(1/I) R^T).
+// -1 for every 4th), W = blockdiag(I/m, R diag(1/I) R^T); `coupled`: each W a random symmetric
+// positive definite 6x6 instead (nonzero coupling blocks: the general path of the row cache).
 System random_system(int num_columns, std::span<const int> sizes, const std::vector<bool>& bounded, uint32_t seed,
-                     double compliance = 0) {
+                     double compliance = 0, bool coupled = false) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1), pos(0.5, 2);
   System s;
@@ -34,6 +35,12 @@ System random_system(int num_columns, std::span<const int> sizes, const std::vec
     for (int i = 0; i < 3; ++i) {
       w[6 * i + i] = inv_m;
       for (int j = 0; j < 3; ++j) w[6 * (3 + i) + 3 + j] = inv_i(i, j);
+    }
+    if (coupled) {
+      Eigen::Matrix<double, 6, 6> a;
+      for (int i = 0; i < 36; ++i) a(i / 6, i % 6) = u(rng);
+      const Eigen::Matrix<double, 6, 6> spd = a * a.transpose() + Eigen::Matrix<double, 6, 6>::Identity();
+      for (int i = 0; i < 36; ++i) w[i] = spd(i / 6, i % 6);
     }
   }
   for (size_t k = 0; k < sizes.size(); ++k) {
@@ -126,12 +133,12 @@ const std::vector<int> kSizes = {3, 5, 6, 4, 1, 3, 5, 2, 6, 3, 1, 5};
 const std::vector<bool> kAllEquality(kSizes.size(), false);
 
 TEST(Solver, DirectMatchesDenseSolve) {
-  for (double eps : {0.0, 1e-6}) {
-    const System s = random_system(13, kSizes, kAllEquality, 7, eps);
+  for (const auto& [eps, coupled] : {std::pair{0.0, false}, std::pair{1e-6, false}, std::pair{0.0, true}}) {
+    const System s = random_system(13, kSizes, kAllEquality, 7, eps, coupled);
     const Eigen::VectorXd expected = regularized_h(s).ldlt().solve(Eigen::Map<const Eigen::VectorXd>(s.rhs.data(), s.num_rows));
     const Outcome r = run(s, SolverKind::direct, 1);
     ASSERT_TRUE(r.result.ok()) << r.result.factor.message();
-    EXPECT_LT(max_diff(r.lambda, expected), 1e-10) << "eps " << eps;
+    EXPECT_LT(max_diff(r.lambda, expected), 1e-10) << "eps " << eps << (coupled ? ", coupled W" : "");
     // dV = W J^T lambda, the impulses' velocity change
     const Dense d = dense(s);
     const Eigen::VectorXd dv = d.w * d.j.transpose() * Eigen::Map<const Eigen::VectorXd>(r.lambda.data(), s.num_rows);
@@ -156,13 +163,15 @@ TEST(Solver, LdlPgsWithOneIterationIsTheExactSolveOnEqualities) {
 TEST(Solver, IterativeSolversConvergeToTheExactSolve) {
   // Well conditioned: one block per column pair, a tree, so PGS converges at a visible rate.
   const std::vector<int> sizes = {3, 3, 3, 3, 3};
-  const System s = random_system(6, sizes, std::vector<bool>(sizes.size(), false), 9, 0.0);
-  const Eigen::VectorXd expected = regularized_h(s).ldlt().solve(Eigen::Map<const Eigen::VectorXd>(s.rhs.data(), s.num_rows));
-  for (SolverKind kind : {SolverKind::pgs, SolverKind::block_gs}) {
-    const double few = max_diff(run(s, kind, 5).lambda, expected);
-    const double many = max_diff(run(s, kind, 3000).lambda, expected);
-    EXPECT_LT(many, 1e-8) << to_string(kind);
-    EXPECT_LT(many, few) << to_string(kind);
+  for (bool coupled : {false, true}) {
+    const System s = random_system(6, sizes, std::vector<bool>(sizes.size(), false), 9, 0.0, coupled);
+    const Eigen::VectorXd expected = regularized_h(s).ldlt().solve(Eigen::Map<const Eigen::VectorXd>(s.rhs.data(), s.num_rows));
+    for (SolverKind kind : {SolverKind::pgs, SolverKind::block_gs}) {
+      const double few = max_diff(run(s, kind, 5).lambda, expected);
+      const double many = max_diff(run(s, kind, 3000).lambda, expected);
+      EXPECT_LT(many, 1e-8) << to_string(kind) << (coupled ? ", coupled W" : "");
+      EXPECT_LT(many, few) << to_string(kind);
+    }
   }
 }
 
