@@ -86,8 +86,10 @@ void write_trace_rows(std::ofstream& out, int step, const Simulation& sim, const
     const RigidBody b = whole_body(sim.mechanism(), shattered.shards[i], original.bodies[i]);
     const auto& p = b.position;
     const auto& q = b.orientation;
+    const auto &f = b.applied_force, &t = b.applied_torque;  // the scene's constant load (world frame)
     out << step << ',' << sim.time() << ',' << b.name << ',' << p.x() << ',' << p.y() << ',' << p.z() << ',' << q.w()
-        << ',' << q.x() << ',' << q.y() << ',' << q.z() << '\n';
+        << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << f.x() << ',' << f.y() << ',' << f.z() << ',' << t.x()
+        << ',' << t.y() << ',' << t.z() << '\n';
   }
 }
 
@@ -108,10 +110,19 @@ int run_step(const StepArgs& a) {
   if (!a.trace.empty()) {
     trace.open(a.trace);
     if (!trace) throw InputError(a.trace + ": cannot write the trace file");
-    trace << "step,time,body,x,y,z,qw,qx,qy,qz\n";
+    trace << "step,time,body,x,y,z,qw,qx,qy,qz,fx,fy,fz,tx,ty,tz\n";
     trace.precision(17);
   }
   const double energy_initial = total_energy(m);
+  // The scene's constant loads, printed so that a driven run says what drives it.
+  int loaded = 0;
+  double force_max = 0, torque_max = 0;  // N, N m
+  for (const RigidBody& b : original.bodies) {
+    if (b.applied_force.isZero(0) && b.applied_torque.isZero(0)) continue;
+    ++loaded;
+    force_max = std::max(force_max, b.applied_force.norm());
+    torque_max = std::max(torque_max, b.applied_torque.norm());
+  }
   const ConstraintError error_initial = constraint_error(m);
   Simulation sim(std::move(m), options);
   if (trace.is_open()) write_trace_rows(trace, 0, sim, original, shattered);
@@ -144,6 +155,9 @@ int run_step(const StepArgs& a) {
                         {"constraints", end.constraints.size()},
                         {"rows", end.num_rows()},
                         {"shattered_bodies", shattered.shattered_bodies},
+                        {"loaded_bodies", loaded},
+                        {"applied_force_max_n", force_max},
+                        {"applied_torque_max_nm", torque_max},
                         {"welds", shattered.welds},
                         {"steps", a.steps},
                         {"timestep", end.timestep},
@@ -175,6 +189,9 @@ int run_step(const StepArgs& a) {
     std::printf("%s: %zu bodies, %zu constraints, %d rows; %s, %d iterations, %d steps of %g s\n", end.name.c_str(),
                 end.bodies.size(), end.constraints.size(), end.num_rows(), a.solver.c_str(), a.iterations, a.steps,
                 end.timestep);
+    if (loaded)
+      std::printf("applied loads         %d bodies, largest force %g N, largest torque %g N m (world frame, constant)\n",
+                  loaded, force_max, torque_max);
     if (shattered.shattered_bodies)
       std::printf("shattering            %d split, %d welds added (block LDL^T flops %.0f -> %.0f)\n",
                   shattered.shattered_bodies, shattered.welds, shattered.flops_before, shattered.flops_after);
@@ -217,7 +234,7 @@ Command add_step_command(CLI::App& app) {
                 "Refactor at the corrected pose in each post-stabilization iteration (Newton)");
   cmd->add_flag("--curvature-target", a->curvature_target,
                 "Equality rows' velocity target includes the constraints' curvature along the motion (energy-consistent)");
-  cmd->add_option("--trace", a->trace, "Write per step and body: step,time,body,x,y,z,qw,qx,qy,qz (CSV)");
+  cmd->add_option("--trace", a->trace, "Write per step and body: step,time,body,x,y,z,qw,qx,qy,qz,fx,fy,fz,tx,ty,tz (CSV; f, t: the scene's constant load)");
   cmd->add_flag("--json", a->json, "Print one JSON object");
   add_shatter_options(cmd, &a->shatter);
   return [a] { return run_step(*a); };

@@ -179,12 +179,31 @@ TEST(LdlpgsStep, TraceHasOneRowPerStepAndBody) {
   std::ifstream in(trace);
   std::string header, line;
   std::getline(in, header);
-  EXPECT_EQ(header, "step,time,body,x,y,z,qw,qx,qy,qz");
+  EXPECT_EQ(header, "step,time,body,x,y,z,qw,qx,qy,qz,fx,fy,fz,tx,ty,tz");
   int rows = 0;
   while (std::getline(in, line)) ++rows;
   const Result j = run("step pendulum --steps 1 --json");
   ASSERT_EQ(j.code, 0) << j.err;
   EXPECT_EQ(rows, 8 * nlohmann::json::parse(j.out)["bodies"].get<int>());  // steps 0..7, every body
+}
+
+// A driven scene says what drives it: the crank's torque in the text, the JSON and the trace.
+TEST(LdlpgsStep, PrintsAndTracesTheScenesLoads) {
+  const Result text = run("step driven-crank --steps 3");
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("applied loads         1 bodies, largest force 0 N, largest torque 1 N m"), std::string::npos)
+      << text.out;
+  const Result j = run("step driven-crank --steps 3 --json");
+  ASSERT_EQ(j.code, 0) << j.err;
+  EXPECT_EQ(nlohmann::json::parse(j.out)["loaded_bodies"], 1);
+  EXPECT_EQ(nlohmann::json::parse(j.out)["applied_torque_max_nm"], 1.0);
+  const std::string trace = temp_path("crank.csv");
+  ASSERT_EQ(run("step driven-crank --steps 1 --trace " + trace).code, 0);
+  std::ifstream in(trace);
+  std::string line;
+  bool torque = false;
+  while (std::getline(in, line)) torque = torque || line.find(",0,0,0,0,0,1") != std::string::npos;
+  EXPECT_TRUE(torque) << "no trace row carries the crank's torque (0, 0, 1) N m";
 }
 
 TEST(LdlpgsExport, MatrixVerifiesAgainstCholmod) {
@@ -499,8 +518,8 @@ TEST(LdlpgsStep, ShatteredSceneTracesTheScenesBodies) {
     std::stringstream sa(la), sb(lb);
     for (std::string f; std::getline(sa, f, ',');) fa.push_back(f);
     for (std::string f; std::getline(sb, f, ',');) fb.push_back(f);
-    ASSERT_EQ(fa.size(), 10u);
-    ASSERT_EQ(fb.size(), 10u);
+    ASSERT_EQ(fa.size(), 16u);
+    ASSERT_EQ(fb.size(), 16u);
     EXPECT_EQ(fa[2], fb[2]);  // the same body
     for (int x = 3; x < 6; ++x) largest = std::max(largest, std::abs(std::stod(fa[x]) - std::stod(fb[x])));
   }
