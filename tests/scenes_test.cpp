@@ -107,6 +107,25 @@ Eigen::MatrixXd equality_jacobian(const Mechanism& m) {
   return j;
 }
 
+// A closed loop through the ground: every body of the body graph has two constraints.
+void expect_single_loop(const Mechanism& m, size_t bodies) {
+  std::map<int, int> degree;
+  for (auto [a, b] : m.body_graph()) ++degree[a], ++degree[b];
+  EXPECT_EQ(degree.size(), bodies);
+  for (auto [body, d] : degree) EXPECT_EQ(d, 2);
+}
+
+// The equality rows' Jacobian has `rows` rows over `cols` columns and rank `rank` (redundant
+// rows when rank < rows).
+void expect_jacobian_rank(const Mechanism& m, int rows, int cols, int rank) {
+  const Eigen::MatrixXd j = equality_jacobian(m);
+  ASSERT_EQ(j.rows(), rows);
+  ASSERT_EQ(j.cols(), cols);
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(j);
+  lu.setThreshold(1e-10);
+  EXPECT_EQ(lu.rank(), rank);
+}
+
 // ---- every built-in ----
 
 TEST(Scenes, EveryBuiltinIsBuiltUnderItsName) {
@@ -325,29 +344,16 @@ TEST(Scenes, RagdollElbowsBendForwardAndKneesBackward) {
 TEST(Scenes, FourBarIsAClosedLoopWithRedundantRows) {
   const Mechanism m = builtin("four-bar");
   for (const Constraint& c : m.constraints) EXPECT_EQ(c.type, ConstraintType::hinge);
-  // the body graph is a cycle through the ground
-  std::map<int, int> degree;
-  for (auto [a, b] : m.body_graph()) ++degree[a], ++degree[b];
-  for (auto [body, d] : degree) EXPECT_EQ(d, 2);
-  EXPECT_EQ(degree.size(), 4u);
+  expect_single_loop(m, 4);  // the body graph is a cycle through the ground
   // 20 rows on 18 freedoms, rank 17: one degree of freedom left, three redundant rows
-  const Eigen::MatrixXd j = equality_jacobian(m);
-  ASSERT_EQ(j.rows(), 20);
-  ASSERT_EQ(j.cols(), 18);
-  Eigen::FullPivLU<Eigen::MatrixXd> lu(j);
-  lu.setThreshold(1e-10);
-  EXPECT_EQ(lu.rank(), 17);
+  expect_jacobian_rank(m, 20, 18, 17);
   // and it moves: the crank turns
   EXPECT_NE(m.bodies[m.find_body("crank")].angular_velocity.z(), 0);
 }
 
 TEST(Scenes, DrivenCrankIsAClosedLoopDrivenFromRest) {
   const Mechanism m = builtin("driven-crank");
-  // the body graph is a cycle through the ground: ground - crank - coupler - slider - ground
-  std::map<int, int> degree;
-  for (auto [a, b] : m.body_graph()) ++degree[a], ++degree[b];
-  EXPECT_EQ(degree.size(), 4u);
-  for (auto [body, d] : degree) EXPECT_EQ(d, 2);
+  expect_single_loop(m, 4);  // ground - crank - coupler - slider - ground
   int hinges = 0, prismatics = 0;
   for (const Constraint& c : m.constraints) {
     hinges += c.type == ConstraintType::hinge;
@@ -356,12 +362,7 @@ TEST(Scenes, DrivenCrankIsAClosedLoopDrivenFromRest) {
   EXPECT_EQ(hinges, 3);
   EXPECT_EQ(prismatics, 1);
   // 20 rows on 18 freedoms, rank 17: one degree of freedom (the crank angle), three redundant rows
-  const Eigen::MatrixXd j = equality_jacobian(m);
-  ASSERT_EQ(j.rows(), 20);
-  ASSERT_EQ(j.cols(), 18);
-  Eigen::FullPivLU<Eigen::MatrixXd> lu(j);
-  lu.setThreshold(1e-10);
-  EXPECT_EQ(lu.rank(), 17);
+  expect_jacobian_rank(m, 20, 18, 17);
   // at rest, gravity off, the crank's torque the only load
   EXPECT_EQ(m.gravity, Eigen::Vector3d::Zero());
   for (const RigidBody& b : m.bodies) {
