@@ -4,7 +4,9 @@
 #include <cassert>
 #include <chrono>
 #include <cmath>
+#include <new>
 #include <string>
+#include <type_traits>
 
 #include "sparse/error.h"
 
@@ -85,17 +87,13 @@ void write_inverse_mass(const Mechanism& m, const std::vector<int>& column, Syst
   }
 }
 
-// Constraint k's rows at the current pose (`known`: already evaluated there): its Jacobian into
-// the System's cells (returned, with c).
-ConstraintRows write_jacobian(const Mechanism& m, int k, System* s, const ConstraintRows* known = nullptr) {
-  const Constraint& con = m.constraints[k];
-  const ConstraintRows rows = known ? *known : evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b]);
+// Constraint k's rows (c and J, evaluated at the current pose) into the System's cells.
+void write_jacobian(const ConstraintRows& rows, int k, System* s) {
   for (int r = 0; r < rows.rows; ++r) {
     const double* j = rows.jacobian.data() + 12 * r;
     std::copy(j, j + 6, s->cell_a(k) + 6 * r);
     std::copy(j + 6, j + 12, s->cell_b(k) + 6 * r);
   }
-  return rows;
 }
 
 // The velocity step's values, each constraint evaluated once: W, J, R = target - J (V0 + W F dt)
@@ -126,9 +124,12 @@ void write_velocity_system(const Mechanism& m, const StepOptions& options, const
       v0[6 * c + 3 + i] = w[i];
     }
   }
-  for (int k = 0; k < static_cast<int>(m.constraints.size()); ++k) {
+  // Constraint k's J into the cells and its target into R. The rows are taken by reference
+  // (ConstraintRows is 640 bytes: copying it twice per constraint was a few percent of a 10-link
+  // chain's step).
+  const auto write_rows = [&](int k, const ConstraintRows& rows) {
     const Constraint& con = m.constraints[k];
-    const ConstraintRows rows = write_jacobian(m, k, s, known.empty() ? nullptr : &known[k]);
+    write_jacobian(rows, k, s);
     const int ca = column[con.body_a], cb = column[con.body_b];
     for (int r = 0; r < rows.rows; ++r) {
       const double* j = rows.jacobian.data() + 12 * r;
@@ -154,6 +155,11 @@ void write_velocity_system(const Mechanism& m, const StepOptions& options, const
       }
       s->rhs[i] = target - jv;
     }
+  };
+  for (int k = 0; k < static_cast<int>(m.constraints.size()); ++k) {
+    const Constraint& con = m.constraints[k];
+    if (known.empty()) write_rows(k, evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b]));
+    else write_rows(k, known[k]);
   }
   std::fill(s->compliance.begin(), s->compliance.end(), options.compliance);
 }
@@ -248,9 +254,12 @@ double Simulation::position_rhs(bool with_jacobian) {
   double worst = 0;
   for (int k = 0; k < static_cast<int>(m.constraints.size()); ++k) {
     const Constraint& con = m.constraints[k];
-    evaluated_[k] = evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b]);
-    const ConstraintRows& rows = evaluated_[k];
-    if (with_jacobian) write_jacobian(m, k, &system_, &rows);
+    // Constructed in place (the prvalue initializes the element: no 640-byte copy); the type is
+    // trivially destructible, so the old value needs no destructor.
+    static_assert(std::is_trivially_destructible_v<ConstraintRows>);
+    const ConstraintRows& rows =
+        *::new (static_cast<void*>(&evaluated_[k])) ConstraintRows(evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b]));
+    if (with_jacobian) write_jacobian(rows, k, &system_);
     // (H_0 + E D_0) dmu = -c; an inequality row (c >= 0 respected, dmu >= 0) then asks only
     // J dq >= -c: a respected gap stays open, a violated one is closed.
     const bool equality = is_equality(con.type);
@@ -346,9 +355,10 @@ StepReport Simulation::step() {
     // q <- exp(w dt) q (world-frame w), renormalized. The body's angular momentum I w is kept
     // through the rotation (w <- I_new^-1 I_old w): without it a free asymmetric body's angular
     // momentum would drift, since semi-implicit Euler drops the gyroscopic term w x I w.
-    const Eigen::Vector3d momentum = b.inertia_world() * b.angular_velocity;
+    // (I_world w = R (I .* (R^T w)) by quaternion rotations: no rotation matrix is built)
+    const Eigen::Vector3d momentum = b.orientation * b.inertia.cwiseProduct(b.orientation.conjugate() * b.angular_velocity);
     rotate(b, b.angular_velocity * dt);
-    b.angular_velocity = b.inverse_inertia_world() * momentum;
+    b.angular_velocity = b.orientation * (b.orientation.conjugate() * momentum).cwiseQuotient(b.inertia);
   }
   evaluated_valid_ = false;  // the pose moved
   std::fill(load_.begin(), load_.end(), 0.0);
