@@ -172,8 +172,6 @@ void rotate(RigidBody& b, const Eigen::Vector3d& dtheta) {
   if (angle > 0) b.orientation = (Eigen::Quaterniond(Eigen::AngleAxisd(angle, dtheta / angle)) * b.orientation).normalized();
 }
 
-bool all_finite(const Eigen::Vector3d& v) { return v.allFinite(); }
-
 }  // namespace
 
 int post_stabilize_iterations(const StepOptions& options) {
@@ -275,7 +273,7 @@ double Simulation::position_rhs(bool with_jacobian) {
 bool Simulation::post_stabilize(StepReport* report) {
   Solver& solver = projector_ ? *projector_ : solver_;
   const bool refactor = options_.post_stabilize_refactor;
-  const int sweeps = mechanism_.first_inequality() >= 0 ? options_.post_stabilize_sweeps : 0;
+  const int sweeps = options_.post_stabilize_sweeps;  // (an exact solve, without inequality rows, ignores it)
   double previous = kUnbounded;
   for (int it = 0;; ++it) {
     const double error = position_rhs(refactor && it < options_.post_stabilize);
@@ -390,7 +388,15 @@ RigidBody& Simulation::writable(int body, const char* what, bool dynamic_only) {
 
 namespace {
 void require_finite(const Eigen::Vector3d& v, const char* what, int body) {
-  if (!all_finite(v)) throw InputError(std::string(what) + ": body " + std::to_string(body) + ": value not finite");
+  if (!v.allFinite()) throw InputError(std::string(what) + ": body " + std::to_string(body) + ": value not finite");
+}
+
+// A unit quaternion within 1e-6 (the caller normalizes it).
+void require_unit(const Eigen::Quaterniond& q, const char* what, int body) {
+  const double norm = q.norm();
+  if (!std::isfinite(norm) || std::abs(norm - 1) > 1e-6)
+    throw InputError(std::string(what) + ": body " + std::to_string(body) + ": quaternion norm " +
+                     std::to_string(norm) + " is not 1 (within 1e-6)");
 }
 }  // namespace
 
@@ -404,10 +410,7 @@ void Simulation::set_position(int body, const Eigen::Vector3d& position) {
 void Simulation::set_orientation(int body, const Eigen::Quaterniond& orientation) {
   evaluated_valid_ = false;  // (even if refused below: nothing is lost but one evaluation)
   RigidBody& b = writable(body, "set_orientation", false);
-  const double norm = orientation.norm();
-  if (!std::isfinite(norm) || std::abs(norm - 1) > 1e-6)
-    throw InputError("set_orientation: body " + std::to_string(body) + ": quaternion norm " + std::to_string(norm) +
-                     " is not 1 (within 1e-6)");
+  require_unit(orientation, "set_orientation", body);
   b.orientation = orientation.normalized();
 }
 
@@ -471,12 +474,7 @@ void Simulation::set_orientations(std::span<const double> in) {
   evaluated_valid_ = false;  // (even if refused below: nothing is lost but one evaluation)
   require_size(in.size(), 4, mechanism_.bodies.size(), "set_orientations");
   const auto at = [&](size_t b) { return Eigen::Quaterniond(in[4 * b], in[4 * b + 1], in[4 * b + 2], in[4 * b + 3]); };
-  for (size_t b = 0; b < mechanism_.bodies.size(); ++b) {
-    const double norm = at(b).norm();
-    if (!std::isfinite(norm) || std::abs(norm - 1) > 1e-6)
-      throw InputError("set_orientations: body " + std::to_string(b) + ": quaternion norm " + std::to_string(norm) +
-                       " is not 1 (within 1e-6)");
-  }
+  for (size_t b = 0; b < mechanism_.bodies.size(); ++b) require_unit(at(b), "set_orientations", static_cast<int>(b));
   for (size_t b = 0; b < mechanism_.bodies.size(); ++b) mechanism_.bodies[b].orientation = at(b).normalized();
 }
 
@@ -515,7 +513,7 @@ void Simulation::apply_force_at(int body, const Eigen::Vector3d& force, const Ei
 }
 
 void Simulation::set_gravity(const Eigen::Vector3d& gravity) {
-  if (!all_finite(gravity)) throw InputError("set_gravity: value not finite");
+  if (!gravity.allFinite()) throw InputError("set_gravity: value not finite");
   mechanism_.gravity = gravity;
 }
 

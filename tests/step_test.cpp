@@ -447,20 +447,26 @@ TEST(PostStabilize, HoldsTheFourBarAndTheTrackedVehicleBelowAMicrometre) {
   }
 }
 
+// The ground (body 0) and one body (body 1), gravity off: the tests' single-body scenes.
+Mechanism ground_and(const char* name, const RigidBody& body) {
+  Mechanism m;
+  m.name = name;
+  m.gravity.setZero();
+  m.add_body(ground());
+  m.add_body(body);
+  return m;
+}
+
 // The angular part of W J^T dmu is a world-frame rotation vector: q <- exp(dtheta) q. A body
 // welded to the ground in a general orientation, then turned off its weld about a world axis:
 // one correction removes the error to second order. Applied in the body frame (q exp(dtheta)),
 // the same vector would turn it about another axis and leave an error of the order of the
 // original (the two agree only where body and world axes coincide, as on planar scenes).
 TEST(PostStabilize, RotatesAboutTheWorldFrameAxis) {
-  Mechanism m;
-  m.name = "welded";
-  m.gravity.setZero();
-  m.add_body(ground());
   RigidBody b = box("b", 2, Eigen::Vector3d(0.3, 0.2, 0.1));
   b.inertia = Eigen::Vector3d(0.02, 0.05, 0.09);
   b.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(1.1, Eigen::Vector3d(1, 2, 3).normalized()));
-  m.add_body(b);
+  Mechanism m = ground_and("welded", b);
   m.add_constraint(make_axial(ConstraintType::weld, 0, m.bodies[0], 1, m.bodies[1], Eigen::Vector3d(0.3, 0.2, 0.1),
                               Eigen::Vector3d(0, 0, 1)));
   StepOptions o = options(SolverKind::direct);
@@ -603,13 +609,9 @@ TEST(PostStabilize, TheCurvatureTargetKeepsTheEnergyThatProjectionLoses) {
   EXPECT_LT(kept.energy_final, 1.05 * kept.energy_initial);
   EXPECT_LT(kept.position, 1e-6);
 
-  Mechanism spin;
-  spin.name = "spinning rod";
-  spin.gravity.setZero();
-  spin.add_body(ground());
   RigidBody bob = box("bob", 1, Eigen::Vector3d(1, 0, 0));
   bob.linear_velocity = Eigen::Vector3d(0, 3, 0);  // 3 rad/s about the anchor: 0.3 rad per step
-  spin.add_body(bob);
+  Mechanism spin = ground_and("spinning rod", bob);
   spin.add_constraint(make_distance(ConstraintType::rod, 0, spin.bodies[0], 1, spin.bodies[1], Eigen::Vector3d::Zero(),
                                     bob.position));
   StepOptions no_post = velocity_only(SolverKind::direct);
@@ -760,13 +762,9 @@ TEST(SimulationState, RefusesABodyOutOfRangeAndArraysOfTheWrongSize) {
 // load is cleared by the step); at a point off the centre it adds the torque (p - x) x F, the
 // angular velocity changing by I^-1 ((p - x) x F) dt.
 TEST(SimulationState, AppliedForcesActForOneStep) {
-  Mechanism m;
-  m.name = "free";
-  m.gravity.setZero();
-  m.add_body(ground());
   RigidBody b = box("b", 2, Eigen::Vector3d(1, 0, 0));
   b.inertia = Eigen::Vector3d(0.1, 0.2, 0.3);
-  m.add_body(b);
+  const Mechanism m = ground_and("free", b);
   Simulation sim(m, options(SolverKind::pgs));
   const double dt = m.timestep;
   const Eigen::Vector3d f(4, 0, 0), point(1, 0.5, 0);
