@@ -31,6 +31,13 @@ std::string FactorInfo::message() const {
   return out.str();
 }
 
+namespace {
+// 1 if x is NaN or infinite, else 0: an IEEE double is so exactly when its 11 exponent bits are
+// all ones. OR-ed over many values (latency 1) instead of a branch per entry or a floating-point
+// sum (its 4-cycle chain made the load a fifth of a small factorization).
+inline uint64_t not_finite_bit(double x) { return (((std::bit_cast<uint64_t>(x) >> 52) & 0x7ff) + 1) >> 11; }
+}  // namespace
+
 Numeric::Numeric(const Symbolic& symbolic)
     : symbolic_(&symbolic),
       values_(symbolic.num_values()),
@@ -44,15 +51,13 @@ bool Numeric::load(const SymmetricCsc& a, const FactorOptions& options) {
   const Symbolic& s = *symbolic_;
   assert(a.n == s.num_rows() && a.nnz() == s.pattern_nnz());
   std::fill(values_.begin(), values_.end(), 0.0);  // fill blocks and unused upper triangles
-  // Scatter, and check finiteness on the way: an IEEE double is NaN or infinite exactly when its
-  // 11 exponent bits are all ones. An integer OR (latency 1) instead of a branch per entry or a
-  // floating-point sum (its 4-cycle chain made this loop a fifth of a small factorization).
+  // Scatter, and check finiteness on the way (not_finite_bit).
   const std::span<const int32_t> map = s.load_map();
   uint64_t not_finite = 0;
   for (int64_t p = 0; p < a.nnz(); ++p) {
     const double x = a.values[p];
     values_[map[p]] = x;
-    not_finite |= (((std::bit_cast<uint64_t>(x) >> 52) & 0x7ff) + 1) >> 11;
+    not_finite |= not_finite_bit(x);
   }
   if (not_finite) return false;
   prepare(options);
@@ -84,11 +89,11 @@ FactorInfo Numeric::factorize_loaded(const FactorOptions& options) {
   const Symbolic& s = *symbolic_;
   info_ = FactorInfo{};
   info_.min_pivot_ratio = s.num_rows() ? std::numeric_limits<double>::infinity() : 0;
-  uint64_t not_finite = 0;  // as in load(), over every packed value (fill and unused entries are 0)
-  for (const double x : values_) not_finite |= (((std::bit_cast<uint64_t>(x) >> 52) & 0x7ff) + 1) >> 11;
+  uint64_t not_finite = 0;  // over every packed value (fill and unused entries are 0)
+  for (const double x : values_) not_finite |= not_finite_bit(x);
   if (not_finite) {
-    // Name the first offending entry by its block and original row: its pivot k holds the
-    // offset, in the node block (row l of N_k) or in row r of E_{*,k}.
+    // The first offending entry's pivot k holds its offset, in the node block (row l of N_k) or
+    // in row r of E_{*,k}: that permuted row, in the original order, names it.
     const int64_t at = std::find_if(values_.begin(), values_.end(), [](double x) { return !std::isfinite(x); }) -
                        values_.begin();
     int k = 0;
@@ -97,13 +102,7 @@ FactorInfo Numeric::factorize_loaded(const FactorOptions& options) {
     const int64_t local = at - s.node_offset(k);
     const int row = local < int64_t{d} * d ? s.row_start(k) + static_cast<int>(local / d)
                                            : s.column_rows(k)[(local - int64_t{d} * d) / d];
-    info_.status = FactorStatus::not_finite;
-    info_.row = s.perm()[row];
-    info_.pivot = values_[at];
-    for (int j = 0; j < s.num_pivots(); ++j)
-      if (row >= s.row_start(j) && row < s.row_start(j + 1)) info_.block = s.block(j);
-    info_.min_pivot_ratio = 0;
-    return info_;
+    return refuse_not_finite(s.perm()[row], values_[at]);
   }
   prepare(options);
   return eliminate();
@@ -114,23 +113,27 @@ FactorInfo Numeric::factorize(const SymmetricCsc& a, const FactorOptions& option
   info_ = FactorInfo{};
   info_.min_pivot_ratio = s.num_rows() ? std::numeric_limits<double>::infinity() : 0;
   if (!load(a, options)) {
-    // A NaN or infinity in the input is the input's fault: name the entry's block and row.
-    info_.status = FactorStatus::not_finite;
-    for (int c = 0; c < a.n && info_.row < 0; ++c)
+    for (int c = 0; c < a.n; ++c)
       for (int p = a.col_ptr[c]; p < a.col_ptr[c + 1]; ++p)
-        if (!std::isfinite(a.values[p])) {
-          info_.row = a.row_idx[p];
-          info_.pivot = a.values[p];
-          break;
-        }
-    const auto perm = s.perm();
-    for (int k = 0; k < s.num_pivots(); ++k)
-      for (int l = 0; l < s.size(k); ++l)
-        if (perm[s.row_start(k) + l] == info_.row) info_.block = s.block(k);
-    info_.min_pivot_ratio = 0;
-    return info_;
+        if (!std::isfinite(a.values[p])) return refuse_not_finite(a.row_idx[p], a.values[p]);
+    return refuse_not_finite(-1, 0);  // (unreachable: load() saw one)
   }
   return eliminate();
+}
+
+// A NaN or infinity in the input is the input's fault: the status names the entry's original row
+// and the block holding it.
+const FactorInfo& Numeric::refuse_not_finite(int row, double value) {
+  const Symbolic& s = *symbolic_;
+  info_.status = FactorStatus::not_finite;
+  info_.row = row;
+  info_.pivot = value;
+  const auto perm = s.perm();
+  for (int k = 0; k < s.num_pivots(); ++k)
+    for (int l = 0; l < s.size(k); ++l)
+      if (perm[s.row_start(k) + l] == row) info_.block = s.block(k);
+  info_.min_pivot_ratio = 0;
+  return info_;
 }
 
 FactorInfo Numeric::eliminate() {

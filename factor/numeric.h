@@ -78,6 +78,7 @@ class Numeric {
   bool load(const SymmetricCsc& a, const FactorOptions& options);  // false: a non-finite entry
   void prepare(const FactorOptions& options);  // regularization and zero-pivot thresholds
   FactorInfo eliminate();                      // the elimination and the inertia, into info_
+  const FactorInfo& refuse_not_finite(int row, double value);  // status not_finite for that entry
   const Symbolic* symbolic_;
   std::vector<double> values_;   // packed blocks (size symbolic.num_values())
   std::vector<double> scratch_;  // L_{*,k} before it replaces E (size symbolic.scratch_size())
