@@ -272,8 +272,11 @@ Command add_report_command(CLI::App& app) {
     std::fprintf(md, "\nThe report took %.0f s.\n", elapsed);
     index.reset();
     if (!python.empty()) ok = run_script(python, "render_html.py", quoted(index_path) + " " + quoted(out_dir + "/index.html")) && ok;
-    std::printf("\nReport: %s%s (%.0f s)\n", index_path.c_str(), python.empty() ? "" : (", " + out_dir + "/index.html").c_str(),
-                elapsed);
+    // The paths as the user named the directory (relative stays relative): nothing of this
+    // machine's layout in what is printed, or pasted into the README.
+    const fs::path shown(o->out);
+    std::printf("\nReport: %s%s (%.0f s)\n", (shown / "index.md").string().c_str(),
+                python.empty() ? "" : (", " + (shown / "index.html").string()).c_str(), elapsed);
     return ok ? 0 : 1;
   };
 }
