@@ -6,7 +6,7 @@
 #include <functional>
 #include <string>
 
-#include "physics/mechanism.h"
+#include "ldlpgs/physics/mechanism.h"
 
 namespace ldlpgs::cli {
 

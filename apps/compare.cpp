@@ -4,12 +4,12 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "physics/step.h"
-#include "sparse/error.h"
-#include "sparse/families.h"
-#include "sparse/mechanism_matrix.h"
-#include "sparse/matrix_market.h"
-#include "sparse/partition.h"
+#include "ldlpgs/physics/step.h"
+#include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/families.h"
+#include "ldlpgs/sparse/mechanism_matrix.h"
+#include "ldlpgs/sparse/matrix_market.h"
+#include "ldlpgs/sparse/partition.h"
 
 namespace ldlpgs::cli {
 

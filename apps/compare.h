@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "factor/verify.h"
-#include "physics/mechanism.h"
-#include "ordering/metrics.h"
-#include "sparse/cholmod_adapter.h"
+#include "ldlpgs/factor/verify.h"
+#include "ldlpgs/physics/mechanism.h"
+#include "ldlpgs/ordering/metrics.h"
+#include "ldlpgs/sparse/cholmod_adapter.h"
 
 namespace ldlpgs::cli {
 

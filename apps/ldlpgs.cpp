@@ -4,7 +4,7 @@
 #include <map>
 
 #include "apps/commands.h"
-#include "sparse/error.h"
+#include "ldlpgs/sparse/error.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"ldlpgs: block-sparse LDL^T with graph-elimination orderings, for mechanisms"};

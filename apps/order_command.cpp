@@ -6,7 +6,7 @@
 
 #include "apps/commands.h"
 #include "apps/compare.h"
-#include "sparse/error.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs::cli {
 

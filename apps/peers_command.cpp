@@ -13,8 +13,8 @@
 
 #include "apps/commands.h"
 #include "bench/peers/peer.h"
-#include "physics/mjcf.h"
-#include "sparse/error.h"
+#include "ldlpgs/physics/mjcf.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs::cli {
 

@@ -23,9 +23,9 @@
 #include "apps/commands.h"
 #include "apps/compare.h"
 #include "apps/sweep.h"
-#include "sparse/error.h"
-#include "physics/scenes.h"
-#include "sparse/families.h"
+#include "ldlpgs/sparse/error.h"
+#include "ldlpgs/physics/scenes.h"
+#include "ldlpgs/sparse/families.h"
 
 namespace ldlpgs::cli {
 

@@ -3,7 +3,7 @@
 
 #include <limits>
 
-#include "sparse/error.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs::cli {
 

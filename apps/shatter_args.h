@@ -8,7 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "physics/shatter.h"
+#include "ldlpgs/physics/shatter.h"
 
 namespace ldlpgs::cli {
 

@@ -22,10 +22,10 @@
 
 #include "apps/commands.h"
 #include "apps/shatter_args.h"
-#include "factor/symbolic.h"
-#include "physics/scene.h"
-#include "physics/step.h"
-#include "sparse/error.h"
+#include "ldlpgs/factor/symbolic.h"
+#include "ldlpgs/physics/scene.h"
+#include "ldlpgs/physics/step.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs::cli {
 

@@ -11,12 +11,12 @@
 #include "apps/commands.h"
 #include "apps/shatter_args.h"
 #include "bench/median.h"
-#include "physics/mjcf.h"
-#include "physics/scene.h"
-#include "physics/scenes.h"
-#include "physics/step.h"
-#include "sparse/error.h"
-#include "sparse/matrix_market.h"
+#include "ldlpgs/physics/mjcf.h"
+#include "ldlpgs/physics/scene.h"
+#include "ldlpgs/physics/scenes.h"
+#include "ldlpgs/physics/step.h"
+#include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/matrix_market.h"
 
 namespace ldlpgs::cli {
 

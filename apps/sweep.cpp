@@ -10,7 +10,7 @@
 
 #include "apps/commands.h"
 #include "bench/median.h"
-#include "physics/step.h"
+#include "ldlpgs/physics/step.h"
 
 namespace ldlpgs::cli {
 

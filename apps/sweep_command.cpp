@@ -5,7 +5,7 @@
 
 #include "apps/commands.h"
 #include "apps/sweep.h"
-#include "sparse/error.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs::cli {
 

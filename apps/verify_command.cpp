@@ -6,7 +6,7 @@
 
 #include "apps/commands.h"
 #include "apps/compare.h"
-#include "factor/verify.h"
+#include "ldlpgs/factor/verify.h"
 
 namespace ldlpgs::cli {
 

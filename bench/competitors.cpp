@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "sparse/cholmod_adapter.h"
-#include "sparse/eigen_adapter.h"
-#include "sparse/error.h"
+#include "ldlpgs/sparse/cholmod_adapter.h"
+#include "ldlpgs/sparse/eigen_adapter.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 

@@ -14,7 +14,7 @@
 #include <span>
 #include <string_view>
 
-#include "sparse/csc.h"
+#include "ldlpgs/sparse/csc.h"
 
 namespace ldlpgs {
 

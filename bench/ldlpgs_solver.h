@@ -5,7 +5,7 @@
 #include <string_view>
 
 #include "bench/competitors.h"
-#include "factor/numeric.h"
+#include "ldlpgs/factor/numeric.h"
 
 namespace ldlpgs {
 

@@ -34,13 +34,13 @@
 #include <vector>
 
 #include "bench/test_matrix_files.h"
-#include "ordering/metrics.h"
-#include "ordering/ordering.h"
-#include "sparse/block_pattern.h"
-#include "sparse/csc.h"
-#include "sparse/families.h"
-#include "sparse/matrix_market.h"
-#include "sparse/partition.h"
+#include "ldlpgs/ordering/metrics.h"
+#include "ldlpgs/ordering/ordering.h"
+#include "ldlpgs/sparse/block_pattern.h"
+#include "ldlpgs/sparse/csc.h"
+#include "ldlpgs/sparse/families.h"
+#include "ldlpgs/sparse/matrix_market.h"
+#include "ldlpgs/sparse/partition.h"
 
 #ifndef LDLPGS_MATRICES
 #error "LDLPGS_MATRICES (the test matrices directory) must be defined by the build"

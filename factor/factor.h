@@ -15,5 +15,5 @@
 //   Symbolic s = Symbolic::analyze(h, blocks, o);
 //   Numeric f(s);
 //   if (FactorInfo info = f.factorize(h, {.regularization = 1e-8}); info.usable()) f.solve(b);
-#include "factor/numeric.h"
-#include "factor/symbolic.h"
+#include "ldlpgs/factor/numeric.h"
+#include "ldlpgs/factor/symbolic.h"

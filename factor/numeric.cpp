@@ -1,5 +1,5 @@
 // Numeric phase: load, eliminate pivot by pivot with the kernels of kernels.h, solve.
-#include "factor/numeric.h"
+#include "ldlpgs/factor/numeric.h"
 
 #include <algorithm>
 #include <bit>
@@ -8,7 +8,7 @@
 #include <limits>
 #include <sstream>
 
-#include "factor/kernels.h"
+#include "ldlpgs/factor/kernels.h"
 
 namespace ldlpgs {
 

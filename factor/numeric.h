@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "factor/symbolic.h"
-#include "sparse/csc.h"
+#include "ldlpgs/factor/symbolic.h"
+#include "ldlpgs/sparse/csc.h"
 
 namespace ldlpgs {
 

@@ -1,14 +1,14 @@
 // Symbolic phase: the block structure of L (ordering/elimination_graph.h plays the elimination
 // game), then the packed layout, the RSI and the load map (symbolic.h).
-#include "factor/symbolic.h"
+#include "ldlpgs/factor/symbolic.h"
 
 #include <algorithm>
 #include <cassert>
 #include <limits>
 #include <string>
 
-#include "ordering/elimination_graph.h"
-#include "sparse/error.h"
+#include "ldlpgs/ordering/elimination_graph.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 

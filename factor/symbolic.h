@@ -13,9 +13,9 @@
 #include <span>
 #include <vector>
 
-#include "ordering/ordering.h"
-#include "sparse/block_pattern.h"
-#include "sparse/csc.h"
+#include "ldlpgs/ordering/ordering.h"
+#include "ldlpgs/sparse/block_pattern.h"
+#include "ldlpgs/sparse/csc.h"
 
 namespace ldlpgs {
 

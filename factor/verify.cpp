@@ -1,5 +1,5 @@
 // Verification against CHOLMOD (verify.h).
-#include "factor/verify.h"
+#include "ldlpgs/factor/verify.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <tuple>
 #include <vector>
 
-#include "sparse/cholmod_adapter.h"
+#include "ldlpgs/sparse/cholmod_adapter.h"
 
 namespace ldlpgs {
 

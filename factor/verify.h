@@ -5,10 +5,10 @@
 #include <cstdint>
 #include <string>
 
-#include "factor/numeric.h"
-#include "ordering/ordering.h"
-#include "sparse/block_pattern.h"
-#include "sparse/csc.h"
+#include "ldlpgs/factor/numeric.h"
+#include "ldlpgs/ordering/ordering.h"
+#include "ldlpgs/sparse/block_pattern.h"
+#include "ldlpgs/sparse/csc.h"
 
 namespace ldlpgs {
 

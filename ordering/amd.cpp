@@ -4,7 +4,7 @@
 
 #include <stdexcept>
 
-#include "ordering/ordering.h"
+#include "ldlpgs/ordering/ordering.h"
 
 namespace ldlpgs {
 

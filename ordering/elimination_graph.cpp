@@ -1,4 +1,4 @@
-#include "ordering/elimination_graph.h"
+#include "ldlpgs/ordering/elimination_graph.h"
 
 #include <algorithm>
 #include <cassert>

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "sparse/block_pattern.h"
+#include "ldlpgs/sparse/block_pattern.h"
 
 namespace ldlpgs {
 

@@ -12,7 +12,7 @@
 #include <set>
 #include <tuple>
 
-#include "ordering/ordering.h"
+#include "ldlpgs/ordering/ordering.h"
 
 namespace ldlpgs {
 std::vector<int> minimum_degree(const BlockPattern& pattern, bool weighted, TieBreak tie) {

@@ -22,7 +22,7 @@
 #include <set>
 #include <tuple>
 
-#include "ordering/ordering.h"
+#include "ldlpgs/ordering/ordering.h"
 
 namespace ldlpgs {
 std::vector<int> minimum_edge_creation(const BlockPattern& pattern, bool weighted, TieBreak tie) {

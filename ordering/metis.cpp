@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <type_traits>
 
-#include "ordering/ordering.h"
+#include "ldlpgs/ordering/ordering.h"
 
 namespace ldlpgs {
 

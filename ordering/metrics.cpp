@@ -1,4 +1,4 @@
-#include "ordering/metrics.h"
+#include "ldlpgs/ordering/metrics.h"
 
 #include <cassert>
 #include <vector>

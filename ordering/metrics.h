@@ -4,9 +4,9 @@
 #include <cstdint>
 #include <span>
 
-#include "ordering/elimination_graph.h"
-#include "sparse/block_pattern.h"
-#include "sparse/csc.h"
+#include "ldlpgs/ordering/elimination_graph.h"
+#include "ldlpgs/sparse/block_pattern.h"
+#include "ldlpgs/sparse/csc.h"
 
 namespace ldlpgs {
 
@@ -39,7 +39,7 @@ BlockCosts block_costs(const BlockPattern& pattern, std::span<const int> pivots,
 #include <optional>
 #include <string>
 
-#include "ordering/ordering.h"
+#include "ldlpgs/ordering/ordering.h"
 
 namespace ldlpgs {
 

@@ -1,6 +1,6 @@
 #include <numeric>
 
-#include "ordering/ordering.h"
+#include "ldlpgs/ordering/ordering.h"
 
 namespace ldlpgs {
 

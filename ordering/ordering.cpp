@@ -1,10 +1,10 @@
-#include "ordering/ordering.h"
+#include "ldlpgs/ordering/ordering.h"
 
 #include <array>
 #include <cassert>
 #include <chrono>
 
-#include "sparse/error.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 

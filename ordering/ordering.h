@@ -17,9 +17,9 @@
 #include <string_view>
 #include <vector>
 
-#include "ordering/elimination_graph.h"
-#include "sparse/block_pattern.h"
-#include "sparse/csc.h"
+#include "ldlpgs/ordering/elimination_graph.h"
+#include "ldlpgs/sparse/block_pattern.h"
+#include "ldlpgs/sparse/csc.h"
 
 namespace ldlpgs {
 

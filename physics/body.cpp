@@ -1,7 +1,7 @@
 // A rigid body's world-frame inertia and kinetic energy. The inertia is diagonal in the body
 // frame, so in the world it is R diag(I) R^T (R = the orientation as a matrix), and its inverse is
 // R diag(1/I) R^T (R^-1 = R^T): no 3x3 inversion.
-#include "physics/body.h"
+#include "ldlpgs/physics/body.h"
 
 #include <cassert>
 

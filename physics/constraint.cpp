@@ -7,7 +7,7 @@
 //   slide rows  t . d, t on a                translational: d = (p_b + r_b) - (p_a + r_a)
 // with r_a = R_a anchor_a, r_b = R_b anchor_b. A dot row between two vectors that are
 // perpendicular at the initial pose is the small angle between them (radians).
-#include "physics/constraint.h"
+#include "ldlpgs/physics/constraint.h"
 
 #include <array>
 #include <cassert>

@@ -24,7 +24,7 @@
 
 #include <Eigen/Core>
 
-#include "physics/body.h"
+#include "ldlpgs/physics/body.h"
 
 namespace ldlpgs {
 

@@ -1,5 +1,5 @@
 // A mechanism's bookkeeping and its two graphs (the talk's symbolic phase starts here).
-#include "physics/mechanism.h"
+#include "ldlpgs/physics/mechanism.h"
 
 #include <cassert>
 #include <utility>

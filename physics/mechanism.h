@@ -10,9 +10,9 @@
 
 #include <Eigen/Core>
 
-#include "physics/body.h"
-#include "physics/constraint.h"
-#include "sparse/block_pattern.h"
+#include "ldlpgs/physics/body.h"
+#include "ldlpgs/physics/constraint.h"
+#include "ldlpgs/sparse/block_pattern.h"
 
 namespace ldlpgs {
 

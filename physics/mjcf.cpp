@@ -3,7 +3,7 @@
 // xipos/ximat (each body's centre of mass and principal frame, our RigidBody's pose), xanchor
 // and xaxis (each joint's point and axis, world frame), xpos/xquat (body frames, for the
 // equalities' data, which MuJoCo gives in body frames).
-#include "physics/mjcf.h"
+#include "ldlpgs/physics/mjcf.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,7 @@
 
 #include <Eigen/Geometry>
 
-#include "sparse/error.h"
+#include "ldlpgs/sparse/error.h"
 
 #ifdef LDLPGS_HAVE_MUJOCO
 #include <mujoco/mujoco.h>

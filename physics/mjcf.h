@@ -50,7 +50,7 @@
 // b (slide): ..."); so is any MJCF file when the library was built without MuJoCo.
 #include <string>
 
-#include "physics/mechanism.h"
+#include "ldlpgs/physics/mechanism.h"
 
 namespace ldlpgs {
 

@@ -19,7 +19,7 @@
 // (RigidBody::applied_force, applied_torque). A static body has only name, static, position and
 // orientation (a force or torque on it is refused: it never moves). Every other key is refused,
 // so that a typo ("positon") is never silently a default.
-#include "physics/scene.h"
+#include "ldlpgs/physics/scene.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -34,7 +34,7 @@
 #include <string_view>
 #include <unordered_map>
 
-#include "sparse/error.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 

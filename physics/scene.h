@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "physics/mechanism.h"
+#include "ldlpgs/physics/mechanism.h"
 
 namespace ldlpgs {
 

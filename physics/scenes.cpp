@@ -2,7 +2,7 @@
 // inertias are those of uniform solids of the stated dimensions; every joint is built at a world
 // point and axis of the initial pose (constraint.h), so the equality constraints hold there
 // exactly, and the bodies are laid out so that the joints sit where the bodies meet.
-#include "physics/scenes.h"
+#include "ldlpgs/physics/scenes.h"
 
 #include <charconv>
 #include <cmath>

@@ -17,7 +17,7 @@
 #include <string_view>
 #include <vector>
 
-#include "physics/mechanism.h"
+#include "ldlpgs/physics/mechanism.h"
 
 namespace ldlpgs {
 

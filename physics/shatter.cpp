@@ -18,15 +18,15 @@
 // at its centre c_0: F through p is F through c_0 plus the couple (p - c_0) x F, so the shard
 // carries F and T + (p - c_0) x F; the total force and the total moment about p are the body's.
 // (Every shard a copy of the load would multiply it by k.)
-#include "physics/shatter.h"
+#include "ldlpgs/physics/shatter.h"
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <limits>
 
-#include "ordering/metrics.h"
-#include "ordering/ordering.h"
+#include "ldlpgs/ordering/metrics.h"
+#include "ldlpgs/ordering/ordering.h"
 
 namespace ldlpgs {
 

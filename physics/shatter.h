@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "physics/mechanism.h"
+#include "ldlpgs/physics/mechanism.h"
 
 namespace ldlpgs {
 

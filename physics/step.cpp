@@ -1,5 +1,5 @@
 // The velocity step of the talk (semi-implicit Euler) around the constraint solver.
-#include "physics/step.h"
+#include "ldlpgs/physics/step.h"
 
 #include <cassert>
 #include <chrono>
@@ -8,7 +8,7 @@
 #include <string>
 #include <type_traits>
 
-#include "sparse/error.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 

@@ -28,9 +28,9 @@
 #include <span>
 #include <vector>
 
-#include "physics/mechanism.h"
-#include "solver/solver.h"
-#include "sparse/csc.h"
+#include "ldlpgs/physics/mechanism.h"
+#include "ldlpgs/solver/solver.h"
+#include "ldlpgs/sparse/csc.h"
 
 namespace ldlpgs {
 

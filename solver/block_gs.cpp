@@ -1,7 +1,7 @@
 // block-gs: Gauss-Seidel over the constraint blocks (the talk's "block Gauss-Seidel": ball 3x3,
 // hinge 5x5, ...). Each N_k is invertible because a constraint is regular; single-row
 // inequality blocks are projected as PGS rows.
-#include "solver/block_gs.h"
+#include "ldlpgs/solver/block_gs.h"
 
 #include <cassert>
 

@@ -6,7 +6,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
-#include "solver/row_cache.h"
+#include "ldlpgs/solver/row_cache.h"
 
 namespace ldlpgs {
 

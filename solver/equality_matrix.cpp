@@ -2,7 +2,7 @@
 // block c, through J_xc W_c J_yc^T: the constraint graph's edge is the shared body (the talk).
 // Each such product is precomputed as a list of positions in the CSC values, so assembling is
 // a sweep of small dense products with no search.
-#include "solver/equality_matrix.h"
+#include "ldlpgs/solver/equality_matrix.h"
 
 #include <algorithm>
 #include <cassert>

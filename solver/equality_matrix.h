@@ -5,10 +5,10 @@
 #include <span>
 #include <vector>
 
-#include "solver/row_cache.h"
-#include "solver/system.h"
-#include "sparse/block_pattern.h"
-#include "sparse/csc.h"
+#include "ldlpgs/solver/row_cache.h"
+#include "ldlpgs/solver/system.h"
+#include "ldlpgs/sparse/block_pattern.h"
+#include "ldlpgs/sparse/csc.h"
 
 namespace ldlpgs {
 

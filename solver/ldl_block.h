@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "factor/numeric.h"
-#include "factor/symbolic.h"
-#include "solver/equality_matrix.h"
-#include "solver/row_cache.h"
-#include "solver/solver.h"
+#include "ldlpgs/factor/numeric.h"
+#include "ldlpgs/factor/symbolic.h"
+#include "ldlpgs/solver/equality_matrix.h"
+#include "ldlpgs/solver/row_cache.h"
+#include "ldlpgs/solver/solver.h"
 
 namespace ldlpgs {
 

@@ -3,11 +3,11 @@
 // block LDL^T, and each inequality row is solved and projected on its own. PGS brings the
 // inequality impulses near their active set; the exact block then removes the equality error
 // that PGS leaves on long chains, heavy loads and loops.
-#include "solver/ldl_block.h"
+#include "ldlpgs/solver/ldl_block.h"
 
 #include <algorithm>
 
-#include "ordering/ordering.h"
+#include "ldlpgs/ordering/ordering.h"
 
 namespace ldlpgs {
 

@@ -1,6 +1,6 @@
 // pgs: projected Gauss-Seidel in the talk's impulse (Kaczmarz) form. H is never built: each row
 // reads J_i dV and writes dV += W J_i^T dlambda, so a sweep costs O(rows), not O(nnz(H)).
-#include "solver/row_cache.h"
+#include "ldlpgs/solver/row_cache.h"
 
 namespace ldlpgs {
 

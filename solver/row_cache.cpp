@@ -1,5 +1,5 @@
 // W J^T row by row and diag(H) = diag(J W J^T), once per step, for the row sweeps.
-#include "solver/row_cache.h"
+#include "ldlpgs/solver/row_cache.h"
 
 #include <algorithm>
 

@@ -4,7 +4,7 @@
 #include <span>
 #include <vector>
 
-#include "solver/system.h"
+#include "ldlpgs/solver/system.h"
 
 namespace ldlpgs {
 

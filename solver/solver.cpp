@@ -1,5 +1,5 @@
 // The solvers chosen by name, their per-structure state, and the velocity residual.
-#include "solver/solver.h"
+#include "ldlpgs/solver/solver.h"
 
 #include <algorithm>
 #include <array>
@@ -8,8 +8,8 @@
 #include <stdexcept>
 #include <string_view>
 
-#include "solver/block_gs.h"
-#include "solver/ldl_block.h"
+#include "ldlpgs/solver/block_gs.h"
+#include "ldlpgs/solver/ldl_block.h"
 
 namespace ldlpgs {
 

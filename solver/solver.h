@@ -26,9 +26,9 @@
 #include <string_view>
 #include <vector>
 
-#include "factor/numeric.h"
-#include "solver/system.h"
-#include "sparse/csc.h"
+#include "ldlpgs/factor/numeric.h"
+#include "ldlpgs/solver/system.h"
+#include "ldlpgs/sparse/csc.h"
 
 namespace ldlpgs {
 

@@ -1,5 +1,5 @@
 // The System's bookkeeping and its two products with J (the only way the solvers touch J).
-#include "solver/system.h"
+#include "ldlpgs/solver/system.h"
 
 #include <cassert>
 

@@ -1,4 +1,4 @@
-#include "sparse/block_matrix.h"
+#include "ldlpgs/sparse/block_matrix.h"
 
 #include <algorithm>
 #include <cassert>

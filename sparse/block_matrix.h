@@ -6,8 +6,8 @@
 #include <span>
 #include <vector>
 
-#include "sparse/block_pattern.h"
-#include "sparse/csc.h"
+#include "ldlpgs/sparse/block_pattern.h"
+#include "ldlpgs/sparse/csc.h"
 
 namespace ldlpgs {
 

@@ -1,4 +1,4 @@
-#include "sparse/block_pattern.h"
+#include "ldlpgs/sparse/block_pattern.h"
 
 #include <cassert>
 #include <numeric>

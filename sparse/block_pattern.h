@@ -6,7 +6,7 @@
 #include <span>
 #include <vector>
 
-#include "sparse/csc.h"
+#include "ldlpgs/sparse/csc.h"
 
 namespace ldlpgs {
 

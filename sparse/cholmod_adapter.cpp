@@ -1,11 +1,11 @@
-#include "sparse/cholmod_adapter.h"
+#include "ldlpgs/sparse/cholmod_adapter.h"
 
 #include <cassert>
 #include <cstdio>
 #include <stdexcept>
 #include <vector>
 
-#include "sparse/error.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 

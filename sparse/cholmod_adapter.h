@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "sparse/csc.h"
+#include "ldlpgs/sparse/csc.h"
 
 namespace ldlpgs {
 

@@ -1,4 +1,4 @@
-#include "sparse/csc.h"
+#include "ldlpgs/sparse/csc.h"
 
 #include <algorithm>
 #include <cassert>

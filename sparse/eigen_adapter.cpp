@@ -1,4 +1,4 @@
-#include "sparse/eigen_adapter.h"
+#include "ldlpgs/sparse/eigen_adapter.h"
 
 #include <vector>
 

@@ -2,7 +2,7 @@
 // Conversions between SymmetricCsc and Eigen::SparseMatrix (column-major, int indices).
 #include <Eigen/SparseCore>
 
-#include "sparse/csc.h"
+#include "ldlpgs/sparse/csc.h"
 
 namespace ldlpgs {
 

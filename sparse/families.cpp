@@ -1,11 +1,11 @@
-#include "sparse/families.h"
+#include "ldlpgs/sparse/families.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <random>
 
-#include "sparse/error.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 

@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "sparse/block_pattern.h"
+#include "ldlpgs/sparse/block_pattern.h"
 
 namespace ldlpgs {
 

@@ -1,4 +1,4 @@
-#include "sparse/matrix_market.h"
+#include "ldlpgs/sparse/matrix_market.h"
 
 #include <algorithm>
 #include <array>
@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-#include "sparse/error.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 namespace {

@@ -2,7 +2,7 @@
 // Matrix Market coordinate files (real, integer or pattern; symmetric or general).
 #include <string>
 
-#include "sparse/csc.h"
+#include "ldlpgs/sparse/csc.h"
 
 namespace ldlpgs {
 

@@ -1,4 +1,4 @@
-#include "sparse/mechanism_matrix.h"
+#include "ldlpgs/sparse/mechanism_matrix.h"
 
 #include <Eigen/Dense>
 #include <algorithm>

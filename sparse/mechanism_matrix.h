@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <span>
 
-#include "sparse/csc.h"
-#include "sparse/families.h"
+#include "ldlpgs/sparse/csc.h"
+#include "ldlpgs/sparse/families.h"
 
 namespace ldlpgs {
 

@@ -1,4 +1,4 @@
-#include "sparse/partition.h"
+#include "ldlpgs/sparse/partition.h"
 
 #include <algorithm>
 #include <cctype>
@@ -8,7 +8,7 @@
 #include <fstream>
 #include <string_view>
 
-#include "sparse/error.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 namespace {

@@ -3,7 +3,7 @@
 // to_csc() equals the original as a dense matrix and stores exactly the in-block positions, the
 // cells of each block column are ordered and tile values(), and each cell's values are the
 // original's entries in the row-major layout (diagonal blocks whole and symmetric).
-#include "sparse/block_matrix.h"
+#include "ldlpgs/sparse/block_matrix.h"
 
 #include <gtest/gtest.h>
 
@@ -14,8 +14,8 @@
 #include <utility>
 #include <vector>
 
-#include "sparse/matrix_market.h"
-#include "sparse/partition.h"
+#include "ldlpgs/sparse/matrix_market.h"
+#include "ldlpgs/sparse/partition.h"
 #include "tests/test_matrices.h"
 
 namespace ldlpgs {

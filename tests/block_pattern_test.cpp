@@ -2,7 +2,7 @@
 // and uniform partitions), unit() against the scalar graph, block_of_row against the prefix sums,
 // and expand(): exactly the dense-block structure, values -1 / 1 + degree, positive definite by a
 // dense Cholesky, and from_scalar(expand()) giving the same block graph back.
-#include "sparse/block_pattern.h"
+#include "ldlpgs/sparse/block_pattern.h"
 
 #include <gtest/gtest.h>
 
@@ -14,8 +14,8 @@
 #include <utility>
 #include <vector>
 
-#include "sparse/matrix_market.h"
-#include "sparse/partition.h"
+#include "ldlpgs/sparse/matrix_market.h"
+#include "ldlpgs/sparse/partition.h"
 #include "tests/test_matrices.h"
 
 namespace ldlpgs {

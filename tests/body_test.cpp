@@ -1,6 +1,6 @@
 // Rigid bodies: the world-frame inertia and its inverse against each other and against a
 // hand-rotated tensor, and the kinetic energy of hand-computed cases.
-#include "physics/body.h"
+#include "ldlpgs/physics/body.h"
 
 #include <gtest/gtest.h>
 

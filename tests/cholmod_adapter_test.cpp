@@ -5,7 +5,7 @@
 // orderings' metrics) under identity and random permutations; and cholmod_ldl (the reference for
 // factor/): L D L^T against P A P^T and x against A x = b on every test matrix, and CHOLMOD's
 // verdicts on negative and zero pivots, worked by hand.
-#include "sparse/cholmod_adapter.h"
+#include "ldlpgs/sparse/cholmod_adapter.h"
 
 #include <gtest/gtest.h>
 
@@ -19,11 +19,11 @@
 #include <string_view>
 #include <vector>
 
-#include "sparse/block_pattern.h"
-#include "sparse/eigen_adapter.h"
-#include "sparse/error.h"
-#include "sparse/families.h"
-#include "sparse/matrix_market.h"
+#include "ldlpgs/sparse/block_pattern.h"
+#include "ldlpgs/sparse/eigen_adapter.h"
+#include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/families.h"
+#include "ldlpgs/sparse/matrix_market.h"
 #include "tests/temp_files.h"
 #include "tests/test_matrices.h"
 

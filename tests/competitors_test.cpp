@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "sparse/cholmod_adapter.h"
-#include "sparse/error.h"
-#include "sparse/matrix_market.h"
+#include "ldlpgs/sparse/cholmod_adapter.h"
+#include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/matrix_market.h"
 #include "tests/test_matrices.h"
 
 namespace ldlpgs {

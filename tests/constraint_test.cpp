@@ -3,7 +3,7 @@
 // velocities), c = 0 where the builders put the bodies, the motions each joint allows (analytic:
 // rotating about the hinge axis, sliding along the prismatic axis), full rank at the initial pose,
 // the limits' nearer side, and the names.
-#include "physics/constraint.h"
+#include "ldlpgs/physics/constraint.h"
 
 #include <gtest/gtest.h>
 

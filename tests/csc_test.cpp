@@ -1,7 +1,7 @@
 // Scalar storage: csc_from_triplets against a dense matrix accumulated straight from the same
 // triplets (hand-built cases and random ones), graph_from_edges against a boolean adjacency
 // matrix, and graph_of against the off-diagonal entries of every test matrix.
-#include "sparse/csc.h"
+#include "ldlpgs/sparse/csc.h"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "sparse/matrix_market.h"
+#include "ldlpgs/sparse/matrix_market.h"
 #include "tests/test_matrices.h"
 
 namespace ldlpgs {

@@ -1,7 +1,7 @@
 // to_eigen (full and lower) against a dense matrix read straight from the CSC arrays, with the
 // explicit-zero structure kept; from_eigen ignoring the upper triangle, accepting an
 // uncompressed matrix; and from_eigen(to_eigen(a)) == a on every test matrix.
-#include "sparse/eigen_adapter.h"
+#include "ldlpgs/sparse/eigen_adapter.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "sparse/matrix_market.h"
+#include "ldlpgs/sparse/matrix_market.h"
 #include "tests/test_matrices.h"
 
 namespace ldlpgs {

@@ -7,11 +7,11 @@
 #include <numeric>
 #include <random>
 
-#include "ordering/elimination_graph.h"
-#include "ordering/ordering.h"
-#include "sparse/families.h"
-#include "sparse/matrix_market.h"
-#include "sparse/partition.h"
+#include "ldlpgs/ordering/elimination_graph.h"
+#include "ldlpgs/ordering/ordering.h"
+#include "ldlpgs/sparse/families.h"
+#include "ldlpgs/sparse/matrix_market.h"
+#include "ldlpgs/sparse/partition.h"
 
 namespace ldlpgs {
 namespace {

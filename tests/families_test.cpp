@@ -3,7 +3,7 @@
 // (two joints adjacent iff they share a dynamic body) on generated and hand-built mechanisms; the
 // shapes (heavy complete, chain a path, loop a cycle, star a hub clique, tree, ladder, grid);
 // errors; and seeds (same seed same mechanism, another seed other row counts).
-#include "sparse/families.h"
+#include "ldlpgs/sparse/families.h"
 
 #include <gtest/gtest.h>
 
@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-#include "sparse/error.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 namespace {

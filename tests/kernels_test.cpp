@@ -1,6 +1,6 @@
 // The kernels of factor/kernels.h against dense Eigen, for every unrolled size 1..6 and the
 // generic path (7, 12), through the same switch the numeric phase uses.
-#include "factor/kernels.h"
+#include "ldlpgs/factor/kernels.h"
 
 #include <gtest/gtest.h>
 

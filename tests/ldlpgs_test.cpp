@@ -11,11 +11,11 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "ordering/metrics.h"
-#include "ordering/ordering.h"
-#include "sparse/cholmod_adapter.h"
-#include "sparse/matrix_market.h"
-#include "sparse/partition.h"
+#include "ldlpgs/ordering/metrics.h"
+#include "ldlpgs/ordering/ordering.h"
+#include "ldlpgs/sparse/cholmod_adapter.h"
+#include "ldlpgs/sparse/matrix_market.h"
+#include "ldlpgs/sparse/partition.h"
 #include "tests/temp_files.h"
 
 namespace ldlpgs {

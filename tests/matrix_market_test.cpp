@@ -1,7 +1,7 @@
 // read_matrix_market against CHOLMOD's own reader on the collection's matrices, one named test
 // per kind of bad input (each checking that the message names the file and line), and write/read
 // round trips.
-#include "sparse/matrix_market.h"
+#include "ldlpgs/sparse/matrix_market.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -14,8 +14,8 @@
 #include <utility>
 #include <vector>
 
-#include "sparse/cholmod_adapter.h"
-#include "sparse/error.h"
+#include "ldlpgs/sparse/cholmod_adapter.h"
+#include "ldlpgs/sparse/error.h"
 #include "tests/temp_files.h"
 #include "tests/test_matrices.h"
 

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "physics/mechanism.h"
+#include "ldlpgs/physics/mechanism.h"
 
 namespace ldlpgs::testing {
 

@@ -4,7 +4,7 @@
 // (positive semidefinite, rank at most 6 per dynamic body, positive definite on trees, every
 // coupling block nonzero); the compliance scales the diagonal only and makes H positive definite
 // (dense Eigen); and seeds.
-#include "sparse/mechanism_matrix.h"
+#include "ldlpgs/sparse/mechanism_matrix.h"
 
 #include <gtest/gtest.h>
 

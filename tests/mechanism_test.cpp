@@ -2,7 +2,7 @@
 // constraints (row counts from the table in constraint.h, adjacency = a shared dynamic body),
 // on a hand-made mechanism and on random ones; static bodies couple nothing; equality_only
 // keeps the equality constraints renumbered in order; the body graph and the bookkeeping.
-#include "physics/mechanism.h"
+#include "ldlpgs/physics/mechanism.h"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 // and annihilates every motion MuJoCo's coordinates allow (J V = 0 for the Jacobian of each dof)
 // while the rows number exactly 6 n - nv: the rows remove exactly the degrees of freedom the
 // joints do not allow. Then the humanoid in free fall, and one named test per bad input.
-#include "physics/mjcf.h"
+#include "ldlpgs/physics/mjcf.h"
 
 #include <gtest/gtest.h>
 
@@ -17,8 +17,8 @@
 
 #include <Eigen/Geometry>
 
-#include "physics/step.h"
-#include "sparse/error.h"
+#include "ldlpgs/physics/step.h"
+#include "ldlpgs/sparse/error.h"
 #include "tests/temp_files.h"
 
 #ifdef LDLPGS_HAVE_MUJOCO

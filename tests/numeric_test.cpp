@@ -1,7 +1,7 @@
 // The numeric block LDL^T. One harness over matrix families x block partitions x orderings
 // compares the factor with CHOLMOD's simplicial LDL^T under the same permutation (verify.h) and,
 // on small matrices, with dense Eigen; then one named test per hard case.
-#include "factor/numeric.h"
+#include "ldlpgs/factor/numeric.h"
 
 #include <gtest/gtest.h>
 
@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "factor/verify.h"
-#include "sparse/families.h"
-#include "sparse/mechanism_matrix.h"
-#include "sparse/partition.h"
+#include "ldlpgs/factor/verify.h"
+#include "ldlpgs/sparse/families.h"
+#include "ldlpgs/sparse/mechanism_matrix.h"
+#include "ldlpgs/sparse/partition.h"
 #include "tests/test_matrices.h"
 
 #include "tests/allocation_counter.h"  // (replaces operator new: one per executable)

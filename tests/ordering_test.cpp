@@ -11,13 +11,13 @@
 #include <numeric>
 #include <tuple>
 
-#include "ordering/metrics.h"
-#include "ordering/ordering.h"
-#include "sparse/cholmod_adapter.h"
-#include "sparse/error.h"
-#include "sparse/families.h"
-#include "sparse/matrix_market.h"
-#include "sparse/partition.h"
+#include "ldlpgs/ordering/metrics.h"
+#include "ldlpgs/ordering/ordering.h"
+#include "ldlpgs/sparse/cholmod_adapter.h"
+#include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/families.h"
+#include "ldlpgs/sparse/matrix_market.h"
+#include "ldlpgs/sparse/partition.h"
 
 namespace ldlpgs {
 namespace {

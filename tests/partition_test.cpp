@@ -1,6 +1,6 @@
 // Partitions: uniform sizes, automatic grouping of identical rows (checked on a hand-built matrix
 // and against a brute-force definition on every test matrix), partition files and --blocks.
-#include "sparse/partition.h"
+#include "ldlpgs/sparse/partition.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -13,9 +13,9 @@
 #include <utility>
 #include <vector>
 
-#include "sparse/error.h"
+#include "ldlpgs/sparse/error.h"
 #include "tests/temp_files.h"
-#include "sparse/matrix_market.h"
+#include "ldlpgs/sparse/matrix_market.h"
 
 namespace ldlpgs {
 namespace {

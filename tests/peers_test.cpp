@@ -10,8 +10,8 @@
 #include <numbers>
 #include <string>
 
-#include "physics/mjcf.h"
-#include "physics/scenes.h"
+#include "ldlpgs/physics/mjcf.h"
+#include "ldlpgs/physics/scenes.h"
 
 namespace ldlpgs::peers {
 namespace {

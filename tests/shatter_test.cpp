@@ -4,7 +4,7 @@
 // lowers the flops of the multi-wheeled vehicle (H dense: the flops of a dense LDL^T, known in
 // closed form) and leaves a chain alone, and the shattered mechanisms move as the whole ones do
 // under the direct solver.
-#include "physics/shatter.h"
+#include "ldlpgs/physics/shatter.h"
 
 #include <gtest/gtest.h>
 
@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "physics/scenes.h"
-#include "physics/step.h"
+#include "ldlpgs/physics/scenes.h"
+#include "ldlpgs/physics/step.h"
 #include "tests/mechanism_compare.h"
 
 namespace ldlpgs {

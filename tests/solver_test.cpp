@@ -1,7 +1,7 @@
 // solver/ against dense references: the exact solve of (H + eps diag H) lambda = R with
 // H = J W J^T built densely from the same J and W, and, with inequality rows, the mixed LCP
 // solved by enumerating active sets.
-#include "solver/solver.h"
+#include "ldlpgs/solver/solver.h"
 
 #include <gtest/gtest.h>
 

@@ -1,11 +1,11 @@
 // physics/step: the velocity step against analytic solutions (pendulum period, rest, momentum),
 // against a dense solve of the same step written independently here, and the claim of the talk
 // (a heavy load on a chain holds under ldl-pgs, stretches under pgs at the same time budget).
-#include "physics/step.h"
+#include "ldlpgs/physics/step.h"
 
-#include "factor/symbolic.h"
-#include "physics/scenes.h"
-#include "sparse/error.h"
+#include "ldlpgs/factor/symbolic.h"
+#include "ldlpgs/physics/scenes.h"
+#include "ldlpgs/sparse/error.h"
 #include "tests/allocation_counter.h"  // (replaces operator new: one per executable)
 
 #include <gtest/gtest.h>

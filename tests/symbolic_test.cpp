@@ -1,16 +1,16 @@
 // The symbolic phase: its counts against CHOLMOD's analysis of the dense-block matrix, and every
 // reduction-scattering index and load-map entry against the (row, column) it must address,
 // recovered independently from the layout's definition (column-major blocks, row-major inside).
-#include "factor/symbolic.h"
+#include "ldlpgs/factor/symbolic.h"
 
 #include <gtest/gtest.h>
 
 #include <map>
 #include <set>
 
-#include "sparse/cholmod_adapter.h"
-#include "sparse/families.h"
-#include "sparse/partition.h"
+#include "ldlpgs/sparse/cholmod_adapter.h"
+#include "ldlpgs/sparse/families.h"
+#include "ldlpgs/sparse/partition.h"
 #include "tests/test_matrices.h"
 
 namespace ldlpgs {

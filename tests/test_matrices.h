@@ -12,8 +12,8 @@
 #include <utility>
 #include <vector>
 
-#include "sparse/csc.h"
-#include "sparse/matrix_market.h"
+#include "ldlpgs/sparse/csc.h"
+#include "ldlpgs/sparse/matrix_market.h"
 
 namespace ldlpgs::testing {
 

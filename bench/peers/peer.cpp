@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "bench/peers/engines.h"
-#include "physics/step.h"
+#include "ldlpgs/physics/step.h"
 
 namespace ldlpgs::peers {
 

@@ -27,7 +27,7 @@
 #include <Eigen/Core>
 
 #include "bench/median.h"
-#include "physics/mechanism.h"
+#include "ldlpgs/physics/mechanism.h"
 
 namespace ldlpgs::peers {
 
