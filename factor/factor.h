@@ -9,11 +9,14 @@
 //               or many right-hand sides, the factor in CHOLMOD's scalar convention. Every frame.
 //   kernels.h   the per-pivot kernels templated on the block size 1..6, generic path above.
 //   verify.h    the factor against CHOLMOD's simplicial LDL^T and the backward error of both.
+//   block_ldlt.h BlockLDLT: both phases behind Eigen's sparse-solver interface, for users who
+//               hold an Eigen::SparseMatrix (analyzePattern, factorize, compute, solve, info).
 //
 // Typical use:
 //   Ordering o = compute_ordering(find_ordering("meca"), blocks, h);
 //   Symbolic s = Symbolic::analyze(h, blocks, o);
 //   Numeric f(s);
 //   if (FactorInfo info = f.factorize(h, {.regularization = 1e-8}); info.usable()) f.solve(b);
+#include "ldlpgs/factor/block_ldlt.h"
 #include "ldlpgs/factor/numeric.h"
 #include "ldlpgs/factor/symbolic.h"

@@ -7,6 +7,9 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <string>
+
+#include "ldlpgs/sparse/error.h"
 
 #include "ldlpgs/factor/kernels.h"
 
@@ -88,6 +91,7 @@ std::span<double> Numeric::begin_load() {
 FactorInfo Numeric::factorize_loaded(const FactorOptions& options) {
   const Symbolic& s = *symbolic_;
   info_ = FactorInfo{};
+  factored_ = true;
   info_.min_pivot_ratio = s.num_rows() ? std::numeric_limits<double>::infinity() : 0;
   uint64_t not_finite = 0;  // over every packed value (fill and unused entries are 0)
   for (const double x : values_) not_finite |= not_finite_bit(x);
@@ -110,7 +114,9 @@ FactorInfo Numeric::factorize_loaded(const FactorOptions& options) {
 
 FactorInfo Numeric::factorize(const SymmetricCsc& a, const FactorOptions& options) {
   const Symbolic& s = *symbolic_;
+  s.check_pattern(a, "factorize");
   info_ = FactorInfo{};
+  factored_ = true;
   info_.min_pivot_ratio = s.num_rows() ? std::numeric_limits<double>::infinity() : 0;
   if (!load(a, options)) {
     for (int c = 0; c < a.n; ++c)
@@ -206,12 +212,24 @@ FactorInfo Numeric::eliminate() {
   return info_;
 }
 
+void Numeric::solve(std::span<double> b, int nrhs) {
+  const int64_t n = symbolic_->num_rows();
+  if (nrhs < 0 || std::ssize(b) != n * nrhs)
+    throw ArgumentError("solve: a right-hand side of " + std::to_string(b.size()) + " entries for " +
+                        std::to_string(nrhs) + " column(s) of " + std::to_string(n) + " rows");
+  solve(b.data(), nrhs, static_cast<int>(n));
+}
+
 void Numeric::solve(double* b, int nrhs, int ld) {
   const Symbolic& s = *symbolic_;
-  assert(info_.usable());
   const int n = s.num_rows();
   if (ld == 0) ld = n;
-  assert(ld >= n);
+  if (!factored_) throw ArgumentError("solve: nothing is factored yet");
+  if (!info_.usable())
+    throw ArgumentError("solve: the last factorization is not usable (" + info_.message() + ")");
+  if (nrhs < 0 || ld < n)
+    throw ArgumentError("solve: nrhs " + std::to_string(nrhs) + ", leading dimension " + std::to_string(ld) +
+                        " for " + std::to_string(n) + " rows");
   const std::span<const int> perm = s.perm();
   const double* v = values_.data();
   double* w = work_.data();

@@ -52,10 +52,13 @@ struct FactorInfo {
 class Numeric {
  public:
   explicit Numeric(const Symbolic& symbolic);  // the symbolic object must outlive this one
+  Numeric(const Symbolic&&) = delete;          // so a temporary one is refused at compile time
 
-  // Loads a (same pattern as the symbolic phase's) and factors it.
+  // Loads a and factors it. a must have the symbolic phase's pattern (checked in every build:
+  // ArgumentError); a NaN or infinite entry is the status not_finite naming it.
   FactorInfo factorize(const SymmetricCsc& a, const FactorOptions& options = {});
   const FactorInfo& info() const { return info_; }
+  bool factored() const { return factored_; }  // a factorization ran: info() is its outcome
   // Loading without a matrix (a caller assembling H straight into the factor's storage):
   // begin_load() zeroes the packed values and returns them; the caller adds each stored entry p
   // of the symbolic phase's pattern at symbolic().load_map()[p]; factorize_loaded() factors them.
@@ -63,9 +66,11 @@ class Numeric {
   FactorInfo factorize_loaded(const FactorOptions& options = {});
 
   // x = H^-1 b in place, b in the original row order; `nrhs` columns of length n, column-major
-  // with leading dimension ld >= n. Requires a usable factorization.
+  // with leading dimension ld >= n (0: n). ArgumentError unless the last factorization is usable
+  // and nrhs >= 0, ld >= n; the pointer form cannot check b's length, the span form checks that
+  // b holds exactly nrhs columns of n.
   void solve(double* b, int nrhs = 1, int ld = 0);
-  void solve(std::span<double> b) { solve(b.data(), 1, static_cast<int>(b.size())); }
+  void solve(std::span<double> b, int nrhs = 1);
 
   // The factor expanded to CHOLMOD's scalar convention for the permuted matrix P H P^T
   // (perm = symbolic().perm()): strictly-lower unit L with D on the diagonal, every block dense.
@@ -87,6 +92,7 @@ class Numeric {
   std::vector<double> work_;     // permuted right-hand side (size n)
   std::vector<double> inv_d_;    // 1 / D per permuted row (size n)
   FactorInfo info_;
+  bool factored_ = false;        // a factorization ran (info_ is its outcome)
 };
 
 }  // namespace ldlpgs

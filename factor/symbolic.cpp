@@ -33,16 +33,18 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
 }
 
 Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, std::span<const int> pivots) {
-  assert(blocks.num_rows() == pattern.n);
-  assert(static_cast<int>(pivots.size()) == blocks.num_blocks());
+  check_symmetric_csc(pattern, "symbolic analysis");
+  if (blocks.num_rows() != pattern.n)
+    throw ArgumentError("symbolic analysis: the block partition covers " + std::to_string(blocks.num_rows()) +
+                        " rows of a matrix with " + std::to_string(pattern.n));
+  check_permutation(pivots, blocks.num_blocks(), "symbolic analysis (block pivots)");
   Symbolic s;
   const int np = blocks.num_blocks();
   s.n_ = pattern.n;
+  s.pattern_col_ptr_ = pattern.col_ptr;
+  s.pattern_row_idx_ = pattern.row_idx;
   std::vector<int> pos(np, -1);  // pivot position of each block (size np)
-  for (int k = 0; k < np; ++k) {
-    assert(pos[pivots[k]] == -1);
-    pos[pivots[k]] = k;
-  }
+  for (int k = 0; k < np; ++k) pos[pivots[k]] = k;
   const Elimination elim = eliminate(blocks, pivots);
   s.block_.assign(pivots.begin(), pivots.end());
   s.size_.resize(np);
@@ -165,7 +167,10 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
       const bool row_is_r = pos[br] > pos[bc];
       const int later = row_is_r ? pos[br] : pos[bc];
       const int lrow = row_is_r ? lr : lc, lcol = row_is_r ? lc : lr;
-      assert(mark[later] >= 0 && "an entry outside the block pattern");
+      if (mark[later] < 0)
+        throw ArgumentError("symbolic analysis: entry (" + std::to_string(r) + ", " + std::to_string(c) +
+                            ") joins blocks " + std::to_string(br) + " and " + std::to_string(bc) +
+                            ", which the block pattern does not connect");
       s.load_map_[p] = static_cast<int32_t>(s.column_offset(k) + int64_t{mark[later] + lrow} * s.size_[k] + lcol);
     }
     unmark_column(s.edge_ptr_, s.edge_pivot_, k, mark);
@@ -173,11 +178,26 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
   return s;
 }
 
+void Symbolic::check_pattern(const SymmetricCsc& a, const char* what) const {
+  if (a.n != n_)
+    throw ArgumentError(std::string(what) + ": a matrix of " + std::to_string(a.n) + " rows; the symbolic phase analyzed " +
+                        std::to_string(n_));
+  check_symmetric_csc(a, what);
+  for (int j = 0; j < n_; ++j) {
+    const int p = a.col_ptr[j], q = a.col_ptr[j + 1];
+    if (p != pattern_col_ptr_[j] || q != pattern_col_ptr_[j + 1] ||
+        !std::equal(a.row_idx.begin() + p, a.row_idx.begin() + q, pattern_row_idx_.begin() + p))
+      throw ArgumentError(std::string(what) + ": column " + std::to_string(j) +
+                          " stores other entries than the pattern the symbolic phase analyzed");
+  }
+}
+
 int64_t Symbolic::memory_bytes() const {
   auto bytes = [](const auto& v) { return static_cast<int64_t>(v.size() * sizeof(v[0])); };
   return bytes(block_) + bytes(size_) + bytes(row_start_) + bytes(height_) + bytes(node_offset_) +
          bytes(edge_ptr_) + bytes(edge_pivot_) + bytes(edge_fill_) + bytes(edge_row_) + bytes(edge_size_) + bytes(l_rows_ptr_) + bytes(l_rows_) +
-         bytes(rsi_ptr_) + bytes(rsi_) + bytes(load_map_) + bytes(perm_);
+         bytes(rsi_ptr_) + bytes(rsi_) + bytes(load_map_) + bytes(perm_) + bytes(pattern_col_ptr_) +
+         bytes(pattern_row_idx_);
 }
 
 }  // namespace ldlpgs

@@ -24,7 +24,8 @@ class Symbolic {
   Symbolic() = default;
   // pattern: the stored entries (values ignored) of the matrices to factor; blocks: its partition
   // into blocks (every stored entry must lie in a block of `blocks`'s graph or on its diagonal);
-  // pivots: the block pivot sequence (pivots[k] = block eliminated k-th, a permutation).
+  // pivots: the block pivot sequence (pivots[k] = block eliminated k-th, a permutation). All
+  // three are checked (ArgumentError naming the fault), in every build.
   static Symbolic analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, std::span<const int> pivots);
   // The same for a computed ordering: a scalar ordering (amd-scalar, metis-scalar) factors with
   // 1 x 1 blocks.
@@ -73,6 +74,9 @@ class Symbolic {
   // Offset in the values of each stored entry of the pattern (size pattern nnz).
   std::span<const int32_t> load_map() const { return load_map_; }
   int64_t pattern_nnz() const { return static_cast<int64_t>(load_map_.size()); }
+  // Throws ArgumentError naming `what` and the first column where a's stored entries are not the
+  // analyzed pattern's (the load map would scatter them to wrong places or past the end).
+  void check_pattern(const SymmetricCsc& a, const char* what) const;
 
  private:
   int n_ = 0;
@@ -92,6 +96,8 @@ class Symbolic {
   std::vector<int32_t> rsi_;          // runs per pivot, see rsi() (size rsi_ptr[num_pivots])
   std::vector<int32_t> load_map_;     // value offset of each stored pattern entry (size pattern nnz)
   std::vector<int> perm_;             // (size n)
+  std::vector<int> pattern_col_ptr_;  // the analyzed pattern, for check_pattern (size n+1)
+  std::vector<int> pattern_row_idx_;  // (size pattern nnz)
   int64_t num_fill_ = 0;
   int64_t nnz_l_ = 0;
   double flops_ = 0;

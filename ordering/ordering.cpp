@@ -3,6 +3,7 @@
 #include <array>
 #include <cassert>
 #include <chrono>
+#include <string>
 
 #include "ldlpgs/sparse/error.h"
 
@@ -64,7 +65,9 @@ std::vector<int> expand_pivots(const BlockPattern& pattern, std::span<const int>
 }
 
 Ordering compute_ordering(const OrderingInfo& info, const BlockPattern& blocks, const SymmetricCsc& a) {
-  assert(blocks.num_rows() == a.n);
+  if (blocks.num_rows() != a.n)
+    throw ArgumentError("compute_ordering: the block partition covers " + std::to_string(blocks.num_rows()) +
+                        " rows of a matrix with " + std::to_string(a.n));
   Ordering o;
   o.name = info.name;
   o.level = info.level;

@@ -1,22 +1,44 @@
 #include "ldlpgs/sparse/block_pattern.h"
 
-#include <cassert>
+#include <limits>
 #include <numeric>
+#include <string>
+
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 
+namespace {
+// A partition a caller passes: positive sizes. Checked in every build (ArgumentError).
+int64_t checked_rows(std::span<const int> block_sizes) {
+  int64_t rows = 0;
+  for (size_t b = 0; b < block_sizes.size(); ++b) {
+    if (block_sizes[b] <= 0)
+      throw ArgumentError("block partition: block " + std::to_string(b) + " has size " + std::to_string(block_sizes[b]));
+    rows += block_sizes[b];
+  }
+  return rows;
+}
+}  // namespace
+
 BlockPattern::BlockPattern(std::span<const int> block_sizes, Graph graph) : graph_(std::move(graph)) {
-  assert(static_cast<int>(block_sizes.size()) == graph_.n);
+  if (static_cast<int64_t>(block_sizes.size()) != graph_.n)
+    throw ArgumentError("block partition: " + std::to_string(block_sizes.size()) + " block sizes for a block graph of " +
+                        std::to_string(graph_.n) + " vertices");
+  const int64_t rows = checked_rows(block_sizes);
+  if (rows > std::numeric_limits<int>::max()) throw ArgumentError("block partition: more than 2^31 rows");
   blocks_.reserve(block_sizes.size());
   for (int size : block_sizes) {
-    assert(size > 0);
     blocks_.push_back({size, num_rows_});
     num_rows_ += size;
   }
 }
 
 BlockPattern BlockPattern::from_scalar(const SymmetricCsc& a, std::span<const int> block_sizes) {
-  assert(std::accumulate(block_sizes.begin(), block_sizes.end(), 0) == a.n);
+  check_symmetric_csc(a, "block pattern");
+  if (const int64_t rows = checked_rows(block_sizes); rows != a.n)
+    throw ArgumentError("block partition: the blocks cover " + std::to_string(rows) + " rows of a matrix with " +
+                        std::to_string(a.n));
   std::vector<int> block_of(a.n);
   int b = 0, r = 0;
   for (int size : block_sizes) {

@@ -3,6 +3,7 @@
 #include <cassert>
 #include <cstdio>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "ldlpgs/sparse/error.h"
@@ -141,7 +142,8 @@ cholmod_factor* analyze_given(cholmod_sparse& view, std::span<const int> perm, c
 }  // namespace
 
 CholmodCounts cholmod_counts(const SymmetricCsc& a, std::span<const int> perm, Cholmod& cm) {
-  assert(static_cast<int>(perm.size()) == a.n);
+  check_symmetric_csc(a, "cholmod_counts");
+  check_permutation(perm, a.n, "cholmod_counts");
   cholmod_common* c = cm.common();
   const GivenOrderLdl settings(c);
   cholmod_sparse view = cholmod_view(a);
@@ -153,8 +155,11 @@ CholmodCounts cholmod_counts(const SymmetricCsc& a, std::span<const int> perm, C
 
 CholmodLdl cholmod_ldl(const SymmetricCsc& a, std::span<const int> perm, std::span<const double> b,
                        Cholmod& cm) {
-  assert(static_cast<int>(perm.size()) == a.n);
-  assert(b.empty() || static_cast<int>(b.size()) == a.n);
+  check_symmetric_csc(a, "cholmod_ldl");
+  check_permutation(perm, a.n, "cholmod_ldl");
+  if (!b.empty() && std::ssize(b) != a.n)
+    throw ArgumentError("cholmod_ldl: right-hand side of " + std::to_string(b.size()) + " entries for " +
+                        std::to_string(a.n) + " rows");
   cholmod_common* c = cm.common();
   const GivenOrderLdl settings(c);
   cholmod_sparse view = cholmod_view(a);

@@ -1,10 +1,49 @@
 #include "ldlpgs/sparse/csc.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
+#include <string>
+
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
+
+void check_symmetric_csc(const SymmetricCsc& a, const char* what) {
+  const auto fail = [&](const std::string& why) { throw ArgumentError(std::string(what) + ": " + why); };
+  if (a.n < 0) fail("negative dimension " + std::to_string(a.n));
+  if (a.col_ptr.size() != static_cast<size_t>(a.n) + 1)
+    fail("col_ptr has " + std::to_string(a.col_ptr.size()) + " entries, not n+1 = " + std::to_string(int64_t{a.n} + 1));
+  if (a.col_ptr[0] != 0) fail("col_ptr[0] is " + std::to_string(a.col_ptr[0]) + ", not 0");
+  for (int j = 0; j < a.n; ++j)
+    if (a.col_ptr[j + 1] < a.col_ptr[j]) fail("col_ptr decreases at column " + std::to_string(j));
+  const size_t nnz = static_cast<size_t>(a.col_ptr[a.n]);
+  if (a.row_idx.size() != nnz || a.values.size() != nnz)
+    fail("row_idx and values have " + std::to_string(a.row_idx.size()) + " and " + std::to_string(a.values.size()) +
+         " entries, col_ptr says " + std::to_string(nnz));
+  for (int j = 0; j < a.n; ++j) {
+    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) {
+      const int i = a.row_idx[p];
+      if (i < j || i >= a.n)
+        fail("row " + std::to_string(i) + " in column " + std::to_string(j) + " is outside the lower triangle " +
+             std::to_string(j) + ".." + std::to_string(a.n - 1));
+      if (p > a.col_ptr[j] && i <= a.row_idx[p - 1])
+        fail("rows of column " + std::to_string(j) + " are not strictly ascending at row " + std::to_string(i));
+    }
+  }
+}
+
+void check_permutation(std::span<const int> perm, int n, const char* what) {
+  if (std::ssize(perm) != n)
+    throw ArgumentError(std::string(what) + ": permutation of " + std::to_string(perm.size()) + " entries for " +
+                        std::to_string(n) + " rows");
+  std::vector<char> seen(n, 0);
+  for (size_t k = 0; k < perm.size(); ++k) {
+    if (perm[k] < 0 || perm[k] >= n || seen[perm[k]])
+      throw ArgumentError(std::string(what) + ": entry " + std::to_string(k) + " of the permutation, " +
+                          std::to_string(perm[k]) + ", is " + (perm[k] < 0 || perm[k] >= n ? "outside 0.." + std::to_string(n - 1) : std::string("repeated")));
+    seen[perm[k]] = 1;
+  }
+}
 
 SymmetricCsc csc_from_triplets(int n, std::span<const Triplet> entries) {
   SymmetricCsc a;
@@ -12,7 +51,9 @@ SymmetricCsc csc_from_triplets(int n, std::span<const Triplet> entries) {
   // Counting sort by column, then sort each column by row and sum duplicates.
   std::vector<int> count(n + 1, 0);
   for (const Triplet& t : entries) {
-    assert(t.row >= 0 && t.row < n && t.col >= 0 && t.col < n);
+    if (t.row < 0 || t.row >= n || t.col < 0 || t.col >= n)
+      throw ArgumentError("triplet (" + std::to_string(t.row) + ", " + std::to_string(t.col) + ") outside 0.." +
+                          std::to_string(n - 1));
     ++count[std::min(t.row, t.col) + 1];
   }
   for (int j = 0; j < n; ++j) count[j + 1] += count[j];
@@ -45,7 +86,9 @@ Graph graph_from_edges(int n, std::span<const std::pair<int, int>> edges) {
   g.n = n;
   g.ptr.assign(n + 1, 0);
   for (auto [u, v] : edges) {
-    assert(u != v && u >= 0 && v >= 0 && u < n && v < n);
+    if (u == v || u < 0 || v < 0 || u >= n || v >= n)
+      throw ArgumentError("graph: edge (" + std::to_string(u) + ", " + std::to_string(v) + ") is a loop or outside 0.." +
+                          std::to_string(n - 1));
     ++g.ptr[u + 1];
     ++g.ptr[v + 1];
   }
@@ -82,7 +125,9 @@ Graph graph_of(const SymmetricCsc& a) {
 }
 
 void symmetric_multiply(const SymmetricCsc& a, std::span<const double> x, std::span<double> y) {
-  assert(static_cast<int>(x.size()) == a.n && static_cast<int>(y.size()) == a.n);
+  if (std::ssize(x) != a.n || std::ssize(y) != a.n)
+    throw ArgumentError("symmetric_multiply: x and y have " + std::to_string(x.size()) + " and " +
+                        std::to_string(y.size()) + " entries, the matrix " + std::to_string(a.n) + " rows");
   std::fill(y.begin(), y.end(), 0.0);
   for (int j = 0; j < a.n; ++j) {
     for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) {
@@ -106,6 +151,8 @@ double norm_inf(const SymmetricCsc& a) {
 }
 
 double backward_error(const SymmetricCsc& a, std::span<const double> x, std::span<const double> b) {
+  if (std::ssize(b) != a.n)
+    throw ArgumentError("backward_error: b has " + std::to_string(b.size()) + " entries for " + std::to_string(a.n) + " rows");
   std::vector<double> r(a.n);
   symmetric_multiply(a, x, r);
   double rn = 0, xn = 0, bn = 0;

@@ -18,6 +18,15 @@ struct SymmetricCsc {
   int64_t nnz() const { return col_ptr.empty() ? 0 : col_ptr[n]; }
 };
 
+// The public API's check of a matrix a caller passes (every build, Release included): n >= 0,
+// col_ptr of size n+1 from 0 and non-decreasing, row_idx and values of size nnz, rows of column
+// j within j..n-1 and strictly ascending. Throws ArgumentError naming `what`, the column and the
+// fault; O(n + nnz).
+void check_symmetric_csc(const SymmetricCsc& a, const char* what);
+
+// The same for a permutation of 0..n-1 (size n, each value once).
+void check_permutation(std::span<const int> perm, int n, const char* what);
+
 struct Triplet {
   int row, col;
   double value;

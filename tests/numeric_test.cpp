@@ -12,9 +12,11 @@
 #include <filesystem>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "ldlpgs/factor/verify.h"
+#include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/families.h"
 #include "ldlpgs/sparse/mechanism_matrix.h"
 #include "ldlpgs/sparse/partition.h"
@@ -351,5 +353,77 @@ TEST(Numeric, FactorizeAndSolveAllocateNothing) {
   EXPECT_EQ(allocations, 1);
 }
 
+// Misuse of the public API, one test per kind, in every build (Release included): each is an
+// ArgumentError with a message, never a crash or heap corruption.
+SymmetricCsc small_spd() {  // tridiagonal 4 x 4, diagonally dominant
+  return csc_from_triplets(4, std::vector<Triplet>{{0, 0, 4}, {1, 1, 4}, {2, 2, 4}, {3, 3, 4}, {1, 0, 1}, {2, 1, 1}, {3, 2, 1}});
+}
+
+// A Numeric keeps a pointer to its Symbolic: built from a temporary it would dangle, so that
+// does not compile.
+static_assert(!std::is_constructible_v<Numeric, Symbolic&&>);
+static_assert(std::is_constructible_v<Numeric, const Symbolic&>);
+
+TEST(NumericMisuse, FactorizeOfAnotherPatternThrows) {
+  const SymmetricCsc a = small_spd();
+  const Symbolic s = Symbolic::analyze(a, BlockPattern::unit(a), std::vector<int>{0, 1, 2, 3});
+  Numeric f(s);
+  ASSERT_TRUE(f.factorize(a).usable());
+  SymmetricCsc other = csc_from_triplets(4, std::vector<Triplet>{{0, 0, 4}, {1, 1, 4}, {2, 2, 4}, {3, 3, 4}, {3, 0, 1}});
+  EXPECT_THROW(f.factorize(other), ArgumentError);
+  other = csc_from_triplets(3, std::vector<Triplet>{{0, 0, 4}, {1, 1, 4}, {2, 2, 4}});
+  EXPECT_THROW(f.factorize(other), ArgumentError);  // another size
+  other = a;
+  other.row_idx[1] = 9;  // not even a valid matrix
+  EXPECT_THROW(f.factorize(other), ArgumentError);
+  // The refused calls left the last factorization as it was.
+  std::vector<double> b{1, 2, 3, 4};
+  f.solve(b);
+  EXPECT_LT(backward_error(a, b, std::vector<double>{1, 2, 3, 4}), 1e-15);
+}
+
+TEST(NumericMisuse, RightHandSideOfTheWrongSizeThrows) {
+  const SymmetricCsc a = small_spd();
+  const Symbolic s = Symbolic::analyze(a, BlockPattern::unit(a), std::vector<int>{0, 1, 2, 3});
+  Numeric f(s);
+  ASSERT_TRUE(f.factorize(a).usable());
+  std::vector<double> shorter(3, 1.0), longer(5, 1.0), two(8, 1.0);
+  EXPECT_THROW(f.solve(shorter), ArgumentError);
+  EXPECT_THROW(f.solve(longer), ArgumentError);
+  EXPECT_THROW(f.solve(two, 3), ArgumentError);
+  EXPECT_NO_THROW(f.solve(two, 2));
+  EXPECT_THROW(f.solve(two.data(), 2, 3), ArgumentError);  // leading dimension below n
+}
+
+TEST(NumericMisuse, SolveWithoutAUsableFactorizationThrows) {
+  const SymmetricCsc a = small_spd();
+  const Symbolic s = Symbolic::analyze(a, BlockPattern::unit(a), std::vector<int>{0, 1, 2, 3});
+  Numeric f(s);
+  std::vector<double> b(4, 1.0);
+  EXPECT_THROW(f.solve(b), ArgumentError);  // nothing factored yet
+  SymmetricCsc singular = a;
+  std::fill(singular.values.begin(), singular.values.end(), 0.0);
+  ASSERT_EQ(f.factorize(singular, {.regularization = 0}).status, FactorStatus::zero_pivot);
+  EXPECT_THROW(f.solve(b), ArgumentError);
+}
+
+TEST(NumericMisuse, NanEntryIsTheStatusNotFiniteNamingIt) {
+  SymmetricCsc a = small_spd();
+  const Symbolic s = Symbolic::analyze(a, BlockPattern::unit(a), std::vector<int>{0, 1, 2, 3});
+  Numeric f(s);
+  a.values[3] = std::numeric_limits<double>::quiet_NaN();  // column 1's off-diagonal (2, 1)
+  const FactorInfo info = f.factorize(a);
+  EXPECT_EQ(info.status, FactorStatus::not_finite);
+  EXPECT_EQ(info.row, 2);
+}
+
+TEST(NumericMisuse, PartitionThatDoesNotCoverTheRowsThrows) {
+  const SymmetricCsc a = small_spd();
+  EXPECT_THROW(BlockPattern::from_scalar(a, std::vector<int>{2, 1}), ArgumentError);
+  EXPECT_THROW(BlockPattern::from_scalar(a, std::vector<int>{2, 3}), ArgumentError);
+  EXPECT_THROW(BlockPattern::from_scalar(a, std::vector<int>{2, 0, 2}), ArgumentError);
+  const SymmetricCsc b = csc_from_triplets(6, std::vector<Triplet>{{0, 0, 1}, {5, 5, 1}});
+  EXPECT_THROW(Symbolic::analyze(a, BlockPattern::unit(b), std::vector<int>{0, 1, 2, 3, 4, 5}), ArgumentError);
+}
 }  // namespace
 }  // namespace ldlpgs

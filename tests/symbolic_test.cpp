@@ -9,6 +9,7 @@
 #include <set>
 
 #include "ldlpgs/sparse/cholmod_adapter.h"
+#include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/families.h"
 #include "ldlpgs/sparse/partition.h"
 #include "tests/test_matrices.h"
@@ -136,5 +137,36 @@ TEST(Symbolic, EmptyMatrix) {
   EXPECT_EQ(s.num_values(), 0);
 }
 
+// Misuse of analyze, one test per kind, in every build: ArgumentError naming the fault.
+TEST(SymbolicMisuse, PivotsThatAreNotAPermutationThrow) {
+  const SymmetricCsc a = csc_from_triplets(3, std::vector<Triplet>{{0, 0, 2}, {1, 1, 2}, {2, 2, 2}, {1, 0, 1}});
+  const BlockPattern unit = BlockPattern::unit(a);
+  EXPECT_THROW(Symbolic::analyze(a, unit, std::vector<int>{0, 1}), ArgumentError);
+  EXPECT_THROW(Symbolic::analyze(a, unit, std::vector<int>{0, 1, 1}), ArgumentError);
+  EXPECT_THROW(Symbolic::analyze(a, unit, std::vector<int>{0, 1, 3}), ArgumentError);
+}
+
+TEST(SymbolicMisuse, EntryOutsideTheBlockPatternThrows) {
+  const SymmetricCsc a = csc_from_triplets(3, std::vector<Triplet>{{0, 0, 2}, {1, 1, 2}, {2, 2, 2}, {2, 0, 1}});
+  // A block graph without the edge (0, 2) that entry (2, 0) needs.
+  const BlockPattern blocks(std::vector<int>{1, 1, 1}, graph_from_edges(3, std::vector<std::pair<int, int>>{{0, 1}}));
+  try {
+    Symbolic::analyze(a, blocks, std::vector<int>{0, 1, 2});
+    FAIL() << "no error";
+  } catch (const ArgumentError& e) {
+    EXPECT_NE(std::string(e.what()).find("entry (2, 0)"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SymbolicMisuse, MalformedMatrixThrows) {
+  SymmetricCsc a = csc_from_triplets(3, std::vector<Triplet>{{0, 0, 2}, {1, 1, 2}, {2, 2, 2}, {2, 0, 1}});
+  std::swap(a.row_idx[0], a.row_idx[1]);  // column 0 holds rows 0 and 2: now descending
+  EXPECT_THROW(Symbolic::analyze(a, BlockPattern::unit(csc_from_triplets(3, {})), std::vector<int>{0, 1, 2}),
+               ArgumentError);
+  a = csc_from_triplets(3, std::vector<Triplet>{{0, 0, 2}, {1, 1, 2}, {2, 2, 2}});
+  a.col_ptr.pop_back();
+  EXPECT_THROW(Symbolic::analyze(a, BlockPattern::unit(csc_from_triplets(3, {})), std::vector<int>{0, 1, 2}),
+               ArgumentError);
+}
 }  // namespace
 }  // namespace ldlpgs
