@@ -1,6 +1,8 @@
 // SciPy and NumPy objects to the library's types and back (python/convert.h).
 #include "convert.h"
 
+#include <pybind11/stl.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -122,7 +124,10 @@ BlockPattern block_pattern_from(py::handle blocks, const SymmetricCsc& a, int ma
 std::vector<std::string> ordering_names(py::handle orderings) {
   if (py::isinstance<py::str>(orderings)) return parse_ordering_list(orderings.cast<std::string>());
   std::string list;
-  for (py::handle name : orderings) list += (list.empty() ? "" : ",") + py::str(name).cast<std::string>();
+  for (py::handle name : orderings) {
+    if (!list.empty()) list += ',';
+    list += py::str(name).cast<std::string>();
+  }
   return parse_ordering_list(list);
 }
 

@@ -227,7 +227,7 @@ void bind_factor(py::module_& m) {
       .def_property_readonly(
           "status",
           [](const Factor& f) { return f.factored ? py::object(py::str(to_string(f.numeric->info().status))) : py::object(py::none()); },
-          "\"ok\" (positive definite), \"indefinite\", \"zero_pivot\", \"not_finite\"; None before factorize.")
+          "\"ok\" (positive definite), \"indefinite\", \"zero pivot\", \"not finite\" (to_string(FactorStatus), as `ldlpgs verify` prints it); None before factorize.")
       .def_property_readonly(
           "inertia",
           [](const Factor& f) -> py::object {
