@@ -142,8 +142,7 @@ void bind_factor(py::module_& m) {
       },
       py::arg("A"), py::arg("blocks") = "auto", py::arg("orderings") = "all", py::arg("max_block") = 6,
       py::arg("cholmod") = false, py::arg("lower") = false,
-      (std::string("order(A, blocks=\"auto\", orderings=\"all\", max_block=6, cholmod=False, lower=False) -> dict\n\n"
-                   "Every requested ordering on A's block graph (what `ldlpgs order --json` prints): a dict from "
+      (std::string("Every requested ordering on A's block graph (what `ldlpgs order --json` prints): a dict from "
                    "ordering name to a dict with perm (the scalar pivot order, perm[k] = row eliminated k-th), "
                    "nnz_L and flops (scalar, as CHOLMOD counts them), block_fill_edges and block_flops (None for "
                    "the -scalar orderings, which may split blocks) and time_ms; with cholmod=True also "
@@ -160,7 +159,6 @@ void bind_factor(py::module_& m) {
         return counts_dict(cholmod_counts(a, permutation_from(perm, a.n), cm));
       },
       py::arg("A"), py::arg("perm"), py::arg("lower") = false,
-      "cholmod_counts(A, perm, lower=False) -> dict\n\n"
       "CHOLMOD's symbolic counts (cholmod_analyze_p, the given order, no postordering) for the simplicial LDL^T "
       "of A[perm][:, perm]: nnz_L (Common->lnz, diagonal included) and flops (Common->fl). The reference for "
       "order()'s nnz_L and flops.");
@@ -190,13 +188,12 @@ void bind_factor(py::module_& m) {
           },
           py::arg("A"), py::arg("regularization") = FactorOptions{}.regularization,
           py::arg("zero_pivot") = FactorOptions{}.zero_pivot, py::arg("lower") = false,
-          "factorize(A, regularization=0, zero_pivot=1e-12, lower=False) -> self\n\n"
           "Factors A + regularization * diag(A) (A of the analyzed pattern). A zero or non-finite pivot does not "
           "raise: status says so, and solve, L and D then raise.")
       .def("solve", &Factor::solve, py::arg("b"),
-           "solve(b) -> x: A x = b for b of shape (n,) or (n, k) (k right-hand sides); b is not changed.")
-      .def("solve_A", &Factor::solve, py::arg("b"), "solve_A(b): solve(b), scikit-sparse's name.")
-      .def("__call__", &Factor::solve, py::arg("b"), "f(b): solve(b), as scikit-sparse's Factor.")
+           "x with A x = b, for b of shape (n,) or (n, k) (k right-hand sides); b is not changed.")
+      .def("solve_A", &Factor::solve, py::arg("b"), "solve(b), scikit-sparse's name.")
+      .def("__call__", &Factor::solve, py::arg("b"), "solve(b), as scikit-sparse's Factor.")
       .def(
           "L",
           [](const Factor& f) {
@@ -207,7 +204,7 @@ void bind_factor(py::module_& m) {
                 if (l.row_idx[p] == j) l.values[p] = 1;
             return scipy_csc(l.n, l.col_ptr, l.row_idx, l.values);
           },
-          "L() -> scipy.sparse.csc_matrix: the unit lower triangular factor of A[P][:, P] in CHOLMOD's scalar "
+          "The unit lower triangular factor of A[P][:, P] in CHOLMOD's scalar "
           "convention (Numeric::scalar_ldl), every block dense (explicit zeros included).")
       .def(
           "D",
@@ -220,10 +217,10 @@ void bind_factor(py::module_& m) {
                 if (l.row_idx[p] == j) d[j] = l.values[p];
             return numpy_copy<double>(d);
           },
-          "D() -> numpy.ndarray: the diagonal of D (scikit-sparse's D() also returns the diagonal).")
+          "The diagonal of D (scikit-sparse's D() also returns the diagonal).")
       .def(
           "P", [](const Factor& f) { return numpy_copy<int>(f.symbolic->perm()); },
-          "P() -> numpy.ndarray: the fill-reducing permutation, P[k] = row eliminated k-th (scikit-sparse's).")
+          "The fill-reducing permutation, P[k] = row eliminated k-th (scikit-sparse's).")
       .def_property_readonly(
           "status",
           [](const Factor& f) { return f.factored ? py::object(py::str(to_string(f.numeric->info().status))) : py::object(py::none()); },
@@ -260,8 +257,7 @@ void bind_factor(py::module_& m) {
 
   m.def("analyze", &analyze, py::arg("A"), py::arg("blocks") = "auto", py::arg("ordering") = "meca",
         py::arg("max_block") = 6, py::arg("lower") = false,
-        (std::string("analyze(A, blocks=\"auto\", ordering=\"meca\", max_block=6, lower=False) -> Factor\n\n"
-                     "The ordering and symbolic phase of A's block LDL^T (values ignored); then "
+        (std::string("The ordering and symbolic phase of A's block LDL^T (values ignored); then "
                      "f.factorize(A). ordering: a name from orderings().\n") +
          kMatrixDoc)
             .c_str());
@@ -307,9 +303,7 @@ void bind_factor(py::module_& m) {
       py::arg("A"), py::arg("blocks") = "auto", py::arg("ordering") = "meca", py::arg("max_block") = 6,
       py::arg("tolerance") = VerifyTolerance{}.factor, py::arg("per_condition") = VerifyTolerance{}.per_condition,
       py::arg("backward_tolerance") = VerifyTolerance{}.backward, py::arg("name") = "A", py::arg("lower") = false,
-      (std::string("verify(A, blocks=\"auto\", ordering=\"meca\", max_block=6, tolerance=1e-10, "
-                   "per_condition=2.2e-16, backward_tolerance=1e-14, name=\"A\", lower=False) -> dict\n\n"
-                   "Our block LDL^T against CHOLMOD's simplicial LDL^T in the same pivot order, and both solutions "
+      (std::string("Our block LDL^T against CHOLMOD's simplicial LDL^T in the same pivot order, and both solutions "
                    "of A x = A (1, -1, 1, ...)^T (factor/verify.h): the fields of `ldlpgs verify --json` (matrix "
                    "is `name`), ok True when they agree within the tolerances.\n") +
        kMatrixDoc)

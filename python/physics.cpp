@@ -177,7 +177,7 @@ void bind_physics(py::module_& m) {
             return d;
           },
           py::arg("n") = 1,
-          "step(n=1) -> dict: n steps; over them the failed steps (a factorization that failed: the PGS "
+          "n steps; over them the failed steps (a factorization that failed: the PGS "
           "impulses were used) and the first failure's message, the largest position (m) and angular (rad) "
           "errors and velocity residual (with diagnostics), post-stabilization iterations, and the solve and "
           "step times summed (us).")
@@ -219,7 +219,7 @@ void bind_physics(py::module_& m) {
             d["angular_rms"] = e.angular_rms;
             return d;
           },
-          "constraint_errors() -> dict: per constraint row at the current pose, error (|c| on equality rows, "
+          "Per constraint row at the current pose, error (|c| on equality rows, "
           "max(0, -c) on inequality rows: m or rad), constraint (its constraint's index) and angular (rad rows); "
           "and position_max, position_rms, angular_max, angular_rms over the rows (constraint_error).")
       .def(
@@ -229,7 +229,7 @@ void bind_physics(py::module_& m) {
             sim.apply_force(body_index(sim, body), vector3(force, "force"), t);
           },
           py::arg("body"), py::arg("force"), py::arg("torque") = py::none(),
-          "apply_force(body, force, torque=None): a force (N) through the centre of mass and a torque (N m), "
+          "A force (N) through the centre of mass and a torque (N m), "
           "world frame, for the next step only; body by index or name.")
       .def_property_readonly("body_names",
                              [](const Simulation& s) {
