@@ -14,7 +14,9 @@
 #include "ldlpgs/ordering/metrics.h"
 #include "ldlpgs/ordering/ordering.h"
 #include "ldlpgs/sparse/cholmod_adapter.h"
+#include "ldlpgs/sparse/eigen_adapter.h"
 #include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/matrix_market.h"
 
 namespace ldlpgs::python {
 
@@ -109,6 +111,20 @@ void bind_factor(py::module_& m) {
         return d;
       },
       "The orderings' names, in the order reports list them, with a one-line summary of each.");
+
+  m.def(
+      "mmread",
+      [](const std::string& path) {
+        Eigen::SparseMatrix<double> full = to_eigen(read_matrix_market(path), Triangle::full);
+        full.makeCompressed();
+        const int nnz = static_cast<int>(full.nonZeros());
+        return scipy_csc(static_cast<int>(full.rows()), {full.outerIndexPtr(), static_cast<size_t>(full.cols()) + 1},
+                         {full.innerIndexPtr(), static_cast<size_t>(nnz)}, {full.valuePtr(), static_cast<size_t>(nnz)});
+      },
+      py::arg("path"),
+      "A Matrix Market file as the program reads it (sparse/matrix_market.h), as the full symmetric "
+      "scipy.sparse.csc_matrix. Unlike scipy.io.mmread, a pattern file gets CHOLMOD's values (off-diagonal -1, "
+      "diagonal 1 + degree: positive definite), so that verify() and the factor see the program's matrix.");
 
   m.def(
       "order",

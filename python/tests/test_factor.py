@@ -5,7 +5,7 @@ import pytest
 import scipy.sparse
 
 import ldlpgs
-from cli import MATRICES, REAL, matrix, run, run_json, same
+from cli import MATRICES, PATTERN, REAL, matrix, run, run_json, same
 
 ORDERINGS = ["meca", "amd", "amd-scalar", "natural"]
 EPS = np.finfo(float).eps
@@ -106,3 +106,17 @@ def test_verify_blocks_and_tolerance():
     cli = run_json("verify", MATRICES / name, "--blocks", 2, "--tolerance", 1e-11, "--backward-tolerance", 1e-13)
     py = ldlpgs.verify(matrix(name), blocks=2, tolerance=1e-11, backward_tolerance=1e-13, name=name)
     assert not same(py, cli)
+
+
+@pytest.mark.parametrize("name", PATTERN)
+def test_verify_pattern_file_through_mmread(name):
+    # scipy.io.mmread gives a pattern file's entries the value 1; ldlpgs.mmread the program's values
+    cli = run_json("verify", MATRICES / name)
+    differences = same(ldlpgs.verify(ldlpgs.mmread(str(MATRICES / name)), name=name), cli)
+    assert not differences, "\n".join(differences)
+
+
+@pytest.mark.parametrize("name", REAL)
+def test_mmread_is_scipys_on_real_files(name):
+    ours, scipys = ldlpgs.mmread(str(MATRICES / name)), matrix(name).tocsc()
+    assert ours.shape == scipys.shape and abs(ours - scipys).max() == 0
