@@ -77,7 +77,7 @@ def test_singular_matrix_status():
     assert f.status == "zero pivot"
     with pytest.raises(ValueError, match="zero"):
         f.solve(np.ones(2))
-    assert f.factorize(a, regularization=1e-2).status == "indefinite" or f.status == "ok"
+    assert f.factorize(a, regularization=1e-2).status == "ok"  # [[1.01, 1], [1, 1.01]]
 
 
 def test_factorize_again_with_new_values():
