@@ -1,0 +1,19 @@
+// The ldlpgs Python module (pybind11): orderings, the block LDL^T and its comparison with
+// CHOLMOD on SciPy sparse matrices (factor.cpp), and the rigid-body simulation (physics.cpp).
+// Bad input raises ldlpgs.InputError and API misuse ldlpgs.ArgumentError, both ValueErrors
+// carrying the library's message (sparse/error.h); any other C++ exception is a RuntimeError.
+#include "bindings.h"
+#include "ldlpgs/sparse/error.h"
+#include "ldlpgs/version.h"
+
+PYBIND11_MODULE(ldlpgs, m) {
+  namespace py = pybind11;
+  m.doc() = "ldlpgs: block-sparse LDL^T with graph-elimination orderings, and LDL-PGS rigid-body physics.";
+  m.attr("__version__") = ldlpgs::kVersion;
+  // pybind11 tries the translators registered last first; its own turns every other
+  // std::exception into a RuntimeError.
+  py::register_exception<ldlpgs::InputError>(m, "InputError", PyExc_ValueError);
+  py::register_exception<ldlpgs::ArgumentError>(m, "ArgumentError", PyExc_ValueError);
+  ldlpgs::python::bind_factor(m);
+  ldlpgs::python::bind_physics(m);
+}

@@ -1,0 +1,271 @@
+// The physics side of the module: a Simulation of a scene (a JSON file, a dict in the scene
+// format, an MJCF model or a built-in name) stepped by one of the solvers (physics/step.h), its
+// state as NumPy arrays in the layout of Simulation's flat getters (MuJoCo's xpos, xquat).
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "bindings.h"
+#include "convert.h"
+#include "ldlpgs/physics/mjcf.h"
+#include "ldlpgs/physics/scene.h"
+#include "ldlpgs/physics/scenes.h"
+#include "ldlpgs/physics/step.h"
+#include "ldlpgs/sparse/error.h"
+
+namespace ldlpgs::python {
+
+namespace {
+
+// What `ldlpgs step SCENE` accepts (apps/step_command.cpp's load_mechanism, which is not in the
+// library), and a dict in the scene file format.
+Mechanism load_mechanism(py::handle scene) {
+  if (py::isinstance<py::dict>(scene)) {
+    const std::string text = py::module_::import("json").attr("dumps")(scene).cast<std::string>();
+    return parse_scene(nlohmann::json::parse(text), "<dict>");
+  }
+  if (!py::isinstance<py::str>(scene) && !py::hasattr(scene, "__fspath__"))
+    throw InputError("scene must be a scene file, an MJCF file, a built-in scene's name or a dict");
+  const std::string spec = py::str(scene).cast<std::string>();
+  if (is_mjcf_path(spec)) {
+    // What the conversion leaves out (contacts, actuators, ...) is a warning, as the program
+    // prints it on stderr.
+    MjcfDropped dropped;
+    Mechanism m = load_mjcf(spec, &dropped);
+    if (const std::string line = describe(dropped); !line.empty())
+      if (PyErr_WarnEx(PyExc_UserWarning, (spec + ": " + line).c_str(), 1) < 0) throw py::error_already_set();
+    return m;
+  }
+  if (std::filesystem::exists(spec)) return load_scene(spec);
+  Mechanism m;
+  if (builtin_scene(spec, &m)) return m;
+  std::string known;
+  for (const std::string& name : builtin_scene_names()) known += " " + name;
+  throw InputError(spec + ": no such file and no built-in scene of that name (built-in:" + known +
+                   "; chain-N and heavy-chain-N-R take any N and R)");
+}
+
+template <class Parse, class Names>
+void parse_name(const std::string& what, const std::string& name, Parse parse, Names names) {
+  if (parse(name)) return;
+  std::string known;
+  for (const char* n : names()) known = known + " " + n;
+  throw InputError(what + "=" + name + ": unknown (known:" + known + ")");
+}
+
+// A body by index or name.
+int body_index(const Simulation& sim, py::handle body) {
+  if (py::isinstance<py::str>(body)) {
+    const std::string name = body.cast<std::string>();
+    const int b = sim.mechanism().find_body(name);
+    if (b < 0) throw InputError("no body named \"" + name + "\"");
+    return b;
+  }
+  return body.cast<int>();  // out of range: Simulation refuses it
+}
+
+Eigen::Vector3d vector3(py::handle x, const char* name) {
+  const auto a = dense_copy(x, name);
+  if (a.ndim() != 1 || a.shape(0) != 3) throw ArgumentError(std::string(name) + " must have 3 entries");
+  return {a.at(0), a.at(1), a.at(2)};
+}
+
+// The state arrays: per body `width` numbers, as Simulation's flat getters and setters lay them out.
+using Getter = void (Simulation::*)(std::span<double>) const;
+using Setter = void (Simulation::*)(std::span<const double>);
+
+py::array_t<double> get_state(const Simulation& sim, Getter get, int width) {
+  const auto bodies = static_cast<py::ssize_t>(sim.mechanism().bodies.size());
+  py::array_t<double> out({bodies, static_cast<py::ssize_t>(width)});
+  (sim.*get)({out.mutable_data(), static_cast<size_t>(out.size())});
+  return out;
+}
+
+void set_state(Simulation& sim, Setter set, int width, py::handle x, const char* name) {
+  const auto a = py::module_::import("numpy").attr("ascontiguousarray")(dense_copy(x, name))
+                     .cast<py::array_t<double, py::array::c_style>>();
+  const auto bodies = static_cast<py::ssize_t>(sim.mechanism().bodies.size());
+  if (a.ndim() != 2 || a.shape(0) != bodies || a.shape(1) != width)
+    throw ArgumentError(std::string(name) + " must have shape (" + std::to_string(bodies) + ", " +
+                        std::to_string(width) + ")");
+  (sim.*set)({a.data(), static_cast<size_t>(a.size())});
+}
+
+Simulation make_simulation(py::handle scene, const std::string& solver, int iterations, const std::string& ordering,
+                           const std::string& schedule, double compliance, double baumgarte,
+                           std::optional<int> post_stabilize, bool post_stabilize_refactor, bool curvature_target,
+                           std::optional<double> timestep, bool diagnostics) {
+  // The checks `ldlpgs step` makes of its options (apps/step_command.cpp), with the keywords' names.
+  StepOptions o;
+  parse_name("solver", solver, [&](const std::string& s) { return solver_kind_from_string(s, &o.solver.kind); },
+             solver_names);
+  parse_name("schedule", schedule,
+             [&](const std::string& s) { return hybrid_schedule_from_string(s, &o.solver.schedule); },
+             hybrid_schedule_names);
+  if (iterations < 1) throw InputError("iterations must be at least 1");
+  if (post_stabilize && *post_stabilize < 0) throw InputError("post_stabilize must be >= 0 iterations (None: the solver's default)");
+  if (!(compliance >= 0) || !std::isfinite(compliance)) throw InputError("compliance must be finite and >= 0");
+  if (!(baumgarte >= 0 && baumgarte <= 1)) throw InputError("baumgarte must be in [0, 1]");
+  find_ordering(ordering);  // throws on an unknown name
+  o.solver.iterations = iterations;
+  o.solver.ordering = ordering;
+  o.compliance = compliance;
+  o.baumgarte = baumgarte;
+  o.post_stabilize = post_stabilize.value_or(StepOptions::kAutoPostStabilize);
+  o.post_stabilize_refactor = post_stabilize_refactor;
+  o.curvature_target = curvature_target;
+  o.diagnostics = diagnostics;
+  Mechanism m = load_mechanism(scene);
+  if (timestep) {
+    if (!(*timestep > 0) || !std::isfinite(*timestep)) throw InputError("timestep must be finite and positive");
+    m.timestep = *timestep;
+  }
+  // The direct solver asserts that it is given equality rows only.
+  if (o.solver.kind == SolverKind::direct && m.first_inequality() >= 0)
+    throw InputError(m.name + ": solver direct solves equality constraints only, and the scene has a " +
+                     to_string(m.constraints[m.first_inequality()].type) + " (use ldl-pgs)");
+  return Simulation(std::move(m), o);
+}
+
+}  // namespace
+
+void bind_physics(py::module_& m) {
+  m.def("builtin_scenes", &builtin_scene_names, "The built-in scenes' names (physics/scenes.h).");
+  m.def("solvers", [] { return std::vector<std::string>(solver_names().begin(), solver_names().end()); });
+
+  const StepOptions defaults;
+  py::class_<Simulation>(m, "Simulation",
+                         "A mechanism stepped by one of the solvers (physics/step.h), as `ldlpgs step SCENE "
+                         "--no-shatter` steps it: the module does not shatter bodies.\n"
+                         "scene: a scene file (JSON), an MJCF file (.xml), a built-in scene's name (builtin_scenes()) "
+                         "or a dict in the scene file format. The other arguments are `ldlpgs step`'s options; "
+                         "post_stabilize=None is the solver's default (8 with ldl-pgs and direct, 0 with pgs and "
+                         "block-gs), timestep=None the scene's. diagnostics=False skips the per-step constraint "
+                         "error and energy (step() then reports zeros for them).")
+      .def(py::init(&make_simulation), py::arg("scene"), py::arg("solver") = to_string(defaults.solver.kind),
+           py::arg("iterations") = defaults.solver.iterations, py::arg("ordering") = defaults.solver.ordering,
+           py::arg("schedule") = to_string(defaults.solver.schedule), py::arg("compliance") = defaults.compliance,
+           py::arg("baumgarte") = defaults.baumgarte, py::arg("post_stabilize") = py::none(),
+           py::arg("post_stabilize_refactor") = defaults.post_stabilize_refactor,
+           py::arg("curvature_target") = defaults.curvature_target, py::arg("timestep") = py::none(),
+           py::arg("diagnostics") = true)
+      .def(
+          "step",
+          [](Simulation& sim, int steps) {
+            if (steps < 0) throw InputError("steps must be >= 0");
+            StepReport worst;
+            int failed = 0, post_iterations = 0;
+            std::string failure;
+            {
+              py::gil_scoped_release release;  // the steps touch no Python object
+              for (int s = 0; s < steps; ++s) {
+                const StepReport r = sim.step();
+                worst.error.position_max = std::max(worst.error.position_max, r.error.position_max);
+                worst.error.angular_max = std::max(worst.error.angular_max, r.error.angular_max);
+                worst.velocity_residual = std::max(worst.velocity_residual, r.velocity_residual);
+                worst.solve_us += r.solve_us;
+                worst.step_us += r.step_us;
+                post_iterations += r.post_stabilize_iterations;
+                if (!r.result.ok() && failed++ == 0) failure = r.result.factor.message();
+              }
+            }
+            py::dict d;
+            d["steps"] = steps;
+            d["time"] = sim.time();
+            d["failed_steps"] = failed;
+            d["first_failure"] = failed ? py::object(py::str(failure)) : py::object(py::none());
+            d["position_error_max"] = worst.error.position_max;
+            d["angular_error_max"] = worst.error.angular_max;
+            d["velocity_residual_max"] = worst.velocity_residual;
+            d["post_stabilize_iterations"] = post_iterations;
+            d["solve_us"] = worst.solve_us;
+            d["step_us"] = worst.step_us;
+            return d;
+          },
+          py::arg("n") = 1,
+          "n steps; over them the failed steps (a factorization that failed: the PGS "
+          "impulses were used) and the first failure's message, the largest position (m) and angular (rad) "
+          "errors and velocity residual (with diagnostics), post-stabilization iterations, and the solve and "
+          "step times summed (us).")
+      .def_property("positions", [](const Simulation& s) { return get_state(s, &Simulation::get_positions, 3); },
+                    [](Simulation& s, py::handle x) { set_state(s, &Simulation::set_positions, 3, x, "positions"); },
+                    "(bodies, 3): centres of mass, world frame (m).")
+      .def_property("orientations", [](const Simulation& s) { return get_state(s, &Simulation::get_orientations, 4); },
+                    [](Simulation& s, py::handle x) { set_state(s, &Simulation::set_orientations, 4, x, "orientations"); },
+                    "(bodies, 4): unit quaternions body -> world as (w, x, y, z).")
+      .def_property("velocities", [](const Simulation& s) { return get_state(s, &Simulation::get_velocities, 6); },
+                    [](Simulation& s, py::handle x) { set_state(s, &Simulation::set_velocities, 6, x, "velocities"); },
+                    "(bodies, 6): linear (m/s) then angular (rad/s) velocity, world frame; static bodies' are 0.")
+      .def(
+          "constraint_errors",
+          [](const Simulation& sim) {
+            // Per row, what constraint_error (physics/step.h) summarizes: |c| on equality rows,
+            // max(0, -c) on inequality rows (only violation counts).
+            const Mechanism& mech = sim.mechanism();
+            std::vector<double> error;
+            std::vector<int> constraint;
+            std::vector<uint8_t> angular;
+            for (size_t k = 0; k < mech.constraints.size(); ++k) {
+              const Constraint& c = mech.constraints[k];
+              const ConstraintRows rows = evaluate(c, mech.bodies[c.body_a], mech.bodies[c.body_b]);
+              for (int r = 0; r < rows.rows; ++r) {
+                error.push_back(is_equality(c.type) ? std::abs(rows.c[r]) : std::max(0.0, -rows.c[r]));
+                constraint.push_back(static_cast<int>(k));
+                angular.push_back(rows.angular[r]);
+              }
+            }
+            py::dict d;
+            d["error"] = numpy_copy<double>(error);
+            d["constraint"] = numpy_copy<int>(constraint);
+            d["angular"] = numpy_copy<uint8_t>(angular).attr("astype")("bool");
+            const ConstraintError e = constraint_error(mech);
+            d["position_max"] = e.position_max;
+            d["position_rms"] = e.position_rms;
+            d["angular_max"] = e.angular_max;
+            d["angular_rms"] = e.angular_rms;
+            return d;
+          },
+          "Per constraint row at the current pose, error (|c| on equality rows, "
+          "max(0, -c) on inequality rows: m or rad), constraint (its constraint's index) and angular (rad rows); "
+          "and position_max, position_rms, angular_max, angular_rms over the rows (constraint_error).")
+      .def(
+          "apply_force",
+          [](Simulation& sim, py::handle body, py::handle force, py::handle torque) {
+            const Eigen::Vector3d t = torque.is_none() ? Eigen::Vector3d::Zero() : vector3(torque, "torque");
+            sim.apply_force(body_index(sim, body), vector3(force, "force"), t);
+          },
+          py::arg("body"), py::arg("force"), py::arg("torque") = py::none(),
+          "A force (N) through the centre of mass and a torque (N m), "
+          "world frame, for the next step only; body by index or name.")
+      .def_property_readonly("body_names",
+                             [](const Simulation& s) {
+                               std::vector<std::string> names;
+                               for (const RigidBody& b : s.mechanism().bodies) names.push_back(b.name);
+                               return names;
+                             })
+      .def_property_readonly("static", [](const Simulation& s) {
+        std::vector<uint8_t> is_static;
+        for (const RigidBody& b : s.mechanism().bodies) is_static.push_back(b.is_static);
+        return numpy_copy<uint8_t>(is_static).attr("astype")("bool");
+      }, "(bodies,): True for static bodies (never move).")
+      .def_property_readonly("name", [](const Simulation& s) { return s.mechanism().name; })
+      .def_property_readonly("time", &Simulation::time, "Simulated time (s).")
+      .def_property_readonly("num_rows", [](const Simulation& s) { return s.mechanism().num_rows(); })
+      .def_property_readonly("energy", [](const Simulation& s) { return total_energy(s.mechanism()); },
+                             "Kinetic plus gravitational potential energy (J).")
+      .def_property_readonly("impulses", [](const Simulation& s) { return numpy_copy<double>(s.impulses()); },
+                             "The last step's lambda, one per constraint row.")
+      .def_property("timestep", [](const Simulation& s) { return s.mechanism().timestep; }, &Simulation::set_timestep)
+      .def_property(
+          "gravity", [](const Simulation& s) { return numpy_copy<double>({s.mechanism().gravity.data(), 3}); },
+          [](Simulation& s, py::handle g) { s.set_gravity(vector3(g, "gravity")); })
+      .def("__repr__", [](const Simulation& s) {
+        return "<ldlpgs.Simulation " + s.mechanism().name + ": " + std::to_string(s.mechanism().bodies.size()) +
+               " bodies, " + std::to_string(s.mechanism().num_rows()) + " rows, " + to_string(s.options().solver.kind) +
+               ", t = " + std::to_string(s.time()) + " s>";
+      });
+}
+
+}  // namespace ldlpgs::python
