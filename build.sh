@@ -13,8 +13,9 @@ shift || true
 packages=(cmake g++ make libsuitesparse-dev libmetis-dev libeigen3-dev libgtest-dev
           libbenchmark-dev nlohmann-json3-dev libcli11-dev pkg-config
           libmujoco-dev libqhull-dev libmujoco-samples libode-dev libbullet-dev
-          pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest)
-# (pybind11 and python3-*: the Python module, python/, and its pytest suite)
+          pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib)
+# (pybind11 and python3-*: the Python module, python/, its pytest suite and the example script
+# examples/compare_orderings.py, which draws with matplotlib)
 # (libqhull-dev: Debian's mujocoConfig.cmake names /usr/include/libqhull_r/ and fails without it)
 
 install_missing() {

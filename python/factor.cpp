@@ -3,6 +3,7 @@
 // (factor/), and the comparison with CHOLMOD that `ldlpgs verify --json` prints (factor/verify.h).
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -22,21 +23,14 @@ namespace ldlpgs::python {
 
 namespace {
 
-// A permutation of 0 .. n-1 (cholmod_counts asserts it).
+// A permutation of 0 .. n-1: a 1-D integer array, checked by the library (check_permutation)
+// once its entries are known to fit an int.
 std::vector<int> permutation_from(py::handle perm, int n) {
   const auto p = py::module_::import("numpy").attr("asarray")(perm).cast<py::array_t<int64_t, py::array::c_style | py::array::forcecast>>();
-  if (p.ndim() != 1 || p.size() != n)
-    throw ArgumentError("perm must be a permutation of 0 .. " + std::to_string(n - 1) + ", got " +
-                        std::to_string(p.size()) + " entries");
-  std::vector<int> out(n);
-  std::vector<char> seen(n, 0);
-  for (int k = 0; k < n; ++k) {
-    const int64_t r = p.at(k);
-    if (r < 0 || r >= n || seen[r]++)
-      throw ArgumentError("perm must be a permutation of 0 .. " + std::to_string(n - 1) + ": perm[" +
-                          std::to_string(k) + "] = " + std::to_string(r) + (r >= 0 && r < n ? " repeats" : " is out of range"));
-    out[k] = static_cast<int>(r);
-  }
+  if (p.ndim() != 1) throw ArgumentError("perm must be a 1-D array, got " + std::to_string(p.ndim()) + " dimensions");
+  std::vector<int> out(p.size());
+  for (py::ssize_t k = 0; k < p.size(); ++k) out[k] = static_cast<int>(std::clamp<int64_t>(p.at(k), -1, n));
+  check_permutation(out, n, "cholmod_counts");
   return out;
 }
 
@@ -192,12 +186,7 @@ void bind_factor(py::module_& m) {
               throw ArgumentError("regularization must be finite and >= 0");
             if (!(zero_pivot >= 0) || !std::isfinite(zero_pivot)) throw ArgumentError("zero_pivot must be finite and >= 0");
             const SymmetricCsc a = symmetric_from_scipy(a_in, lower);
-            // Numeric::factorize loads through the analyzed load map: another pattern would land
-            // in the wrong places (it asserts only the sizes).
-            if (a.n != f.pattern.n || a.col_ptr != f.pattern.col_ptr || a.row_idx != f.pattern.row_idx)
-              throw ArgumentError("factorize: A's pattern is not the one analyzed (n = " + std::to_string(a.n) +
-                                  ", " + std::to_string(a.nnz()) + " stored lower entries; analyzed n = " +
-                                  std::to_string(f.pattern.n) + ", " + std::to_string(f.pattern.nnz()) + ")");
+            // Another pattern or size than analyzed: the library's ArgumentError (Symbolic::check_pattern).
             f.numeric->factorize(a, {.regularization = regularization, .zero_pivot = zero_pivot});
             f.factored = true;
             return self;

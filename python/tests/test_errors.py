@@ -112,9 +112,9 @@ def test_bad_blocks(blocks, message):
 def test_bad_permutation():
     with pytest.raises(ValueError, match="47 entries"):
         ldlpgs.cholmod_counts(A, np.arange(47))
-    with pytest.raises(ValueError, match=r"perm\[1\] = 0 repeats"):
+    with pytest.raises(ValueError, match=r"entry 1 of the permutation, 0, is repeated"):
         ldlpgs.cholmod_counts(A, np.zeros(48, dtype=int))
-    with pytest.raises(ValueError, match="out of range"):
+    with pytest.raises(ValueError, match="outside 0..47"):
         ldlpgs.cholmod_counts(A, np.arange(1, 49))
 
 
@@ -125,11 +125,11 @@ def test_factor_misuse():
     for method in (f.L, f.D):
         with pytest.raises(ValueError, match="first"):
             method()
-    with pytest.raises(ldlpgs.ArgumentError, match="not the one analyzed"):
+    with pytest.raises(ldlpgs.ArgumentError, match="the symbolic phase analyzed 48"):
         f.factorize(matrix("bcsstk02.mtx"))
     other = A.copy().tolil()
     other[0, 47] = other[47, 0] = 1e-3  # a new entry: another pattern of the same size
-    with pytest.raises(ldlpgs.ArgumentError, match="not the one analyzed"):
+    with pytest.raises(ldlpgs.ArgumentError, match="column 0 stores other entries than the pattern"):
         f.factorize(other.tocsc())
     with pytest.raises(ValueError, match="regularization"):
         f.factorize(A, regularization=-1)
