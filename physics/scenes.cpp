@@ -6,10 +6,15 @@
 
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "ldlpgs/physics/mjcf.h"
+#include "ldlpgs/physics/scene.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 
@@ -597,6 +602,18 @@ bool builtin_scene(std::string_view name, Mechanism* mechanism) {
     return false;
   }
   return true;
+}
+
+Mechanism load_mechanism(const std::string& spec, MjcfDropped* dropped) {
+  // An MJCF model by its extension, even if missing: MuJoCo names the problem.
+  if (is_mjcf_path(spec)) return load_mjcf(spec, dropped);
+  if (std::filesystem::exists(spec)) return load_scene(spec);
+  Mechanism m;
+  if (builtin_scene(spec, &m)) return m;
+  std::string known;
+  for (const std::string& name : builtin_scene_names()) known += " " + name;
+  throw InputError(spec + ": no such file and no built-in scene of that name (built-in:" + known +
+                   "; chain-N and heavy-chain-N-R take any N and R)");
 }
 
 }  // namespace ldlpgs

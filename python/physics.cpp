@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 
 #include "bindings.h"
 #include "convert.h"
@@ -29,22 +28,13 @@ Mechanism load_mechanism(py::handle scene) {
   if (!py::isinstance<py::str>(scene) && !py::hasattr(scene, "__fspath__"))
     throw InputError("scene must be a scene file, an MJCF file, a built-in scene's name or a dict");
   const std::string spec = py::str(scene).cast<std::string>();
-  if (is_mjcf_path(spec)) {
-    // What the conversion leaves out (contacts, actuators, ...) is a warning, as the program
-    // prints it on stderr.
-    MjcfDropped dropped;
-    Mechanism m = load_mjcf(spec, &dropped);
-    if (const std::string line = describe(dropped); !line.empty())
-      if (PyErr_WarnEx(PyExc_UserWarning, (spec + ": " + line).c_str(), 1) < 0) throw py::error_already_set();
-    return m;
-  }
-  if (std::filesystem::exists(spec)) return load_scene(spec);
-  Mechanism m;
-  if (builtin_scene(spec, &m)) return m;
-  std::string known;
-  for (const std::string& name : builtin_scene_names()) known += " " + name;
-  throw InputError(spec + ": no such file and no built-in scene of that name (built-in:" + known +
-                   "; chain-N and heavy-chain-N-R take any N and R)");
+  // What an MJCF conversion leaves out (contacts, actuators, ...) is a warning, as the program
+  // prints it on stderr.
+  MjcfDropped dropped;
+  Mechanism m = load_mechanism(spec, &dropped);
+  if (const std::string line = describe(dropped); !line.empty())
+    if (PyErr_WarnEx(PyExc_UserWarning, (spec + ": " + line).c_str(), 1) < 0) throw py::error_already_set();
+  return m;
 }
 
 template <class Parse, class Names>
