@@ -119,7 +119,7 @@ void print_table(std::FILE* out, const Problem& p, const std::vector<Row>& rows)
                p.blocks.num_blocks(), static_cast<long long>(p.blocks.num_edges()),
                static_cast<long long>(2 * p.a.nnz() - p.a.n));
   std::fprintf(out, "%-13s  %10s  %9s  %11s  %11s  %9s", "ordering", "nnz(L)", "flops", "block fill", "block flops",
-               "time ms");
+               "ordering ms");
   if (with_cholmod) std::fprintf(out, "  %14s  %14s", "CHOLMOD nnz(L)", "CHOLMOD flops");
   std::fprintf(out, "\n");
   for (const Row& r : rows) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <sstream>
 #include <string_view>
 
 #include "apps/commands.h"
@@ -67,8 +68,16 @@ int usage_error(const CLI::App& app, const std::string& got) {
 // colon): an unknown subcommand, a misspelt option (the nearest one named), or a second list
 // item after a space (lists are comma-separated).
 int extras_error(const CLI::App& app, const std::string& what, int argc, char** argv) {
-  std::string extra = what.substr(what.rfind(": ") + 2);
-  extra = extra.substr(0, extra.find(' '));
+  // CLI11 lists the arguments in no particular order: the first in argv, an option before a word
+  std::vector<std::string> extras;
+  std::stringstream list(what.substr(what.rfind(": ") + 2));
+  for (std::string word; list >> word;) extras.push_back(word);
+  std::string extra;
+  for (int pass = 0; pass < 2 && extra.empty(); ++pass)
+    for (int i = 1; i < argc && extra.empty(); ++i)
+      if ((pass == 1 || argv[i][0] == '-') && std::find(extras.begin(), extras.end(), argv[i]) != extras.end())
+        extra = argv[i];
+  if (extra.empty() && !extras.empty()) extra = extras.front();
   const std::vector<CLI::App*> parsed = app.get_subcommands();
   if (parsed.empty()) {
     if (extra.starts_with("-")) return usage_error(app, "unknown option " + extra + " (no subcommand given)");

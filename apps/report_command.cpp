@@ -89,9 +89,9 @@ std::string machine() {
 }
 
 // One table of the report as data: DIR/NAME.json ({"ldlpgs_version", "command": "report",
-// "table", "rows"}) and DIR/NAME.csv, one line per row, nested objects flattened to a_b columns.
+// "table", "records"}: one object per row) and DIR/NAME.csv, one line per row, nested objects flattened to a_b columns.
 void write_table(const fs::path& dir, const std::string& name, const nlohmann::json& rows) {
-  std::ofstream(dir / (name + ".json")) << json_header("report", {{"table", name}, {"rows", rows}}).dump(1) << '\n';
+  std::ofstream(dir / (name + ".json")) << json_header("report", {{"table", name}, {"records", rows}}).dump(1) << '\n';
   std::vector<nlohmann::json> flat;
   std::vector<std::string> columns;
   for (const nlohmann::json& row : rows) {
