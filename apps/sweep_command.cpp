@@ -25,7 +25,9 @@ Command add_sweep_command(CLI::App& app) {
   cmd->add_option("--seconds", o->seconds, "Simulated time per run (default 1, --full 2)");
   cmd->add_flag("--full", o->full, "The paper's sweep (papers/speed-vs-error.md)");
   cmd->add_flag("--stability", o->stability, "Also raise the mass ratio by 10x until each solver breaks");
-  cmd->add_option("--json", o->json, "Print one JSON object on standard output instead of the tables")->expected(0, 1);
+  cmd->add_option("--json", o->json, "Print one JSON object on standard output instead of the tables")
+      ->expected(0, 1)
+      ->type_name("");
   cmd->add_option("--json-file", o->json_file, "Write the points papers/plot_speed_vs_error.py draws to this file");
   return [o] {
     if (!o->json.empty() && o->json != "-") throw InputError("sweep: --json " + o->json + " is now --json-file " + o->json);
