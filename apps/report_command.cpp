@@ -126,10 +126,14 @@ void write_table(const fs::path& dir, const std::string& name, const nlohmann::j
   }
 }
 
-// A paper's path as a link from the report directory.
+// A paper's path as a link from the report directory when the report is inside the project
+// (report/ by default); outside it, the path in the project only: a link would carry this
+// machine's layout into the report.
 std::string paper(const std::string& out_dir, const std::string& name) {
-  const fs::path target = fs::path(LDLPGS_SOURCE_DIR) / "papers" / name;
-  return "[papers/" + name + "](" + fs::relative(target, out_dir).string() + ")";
+  const fs::path source = fs::weakly_canonical(LDLPGS_SOURCE_DIR), dir = fs::weakly_canonical(out_dir);
+  const std::string inside = fs::relative(dir, source).string();
+  if (inside.empty() || inside.starts_with("..")) return "`papers/" + name + "`";
+  return "[papers/" + name + "](" + fs::relative(source / "papers" / name, dir).string() + ")";
 }
 
 // The key findings: one sentence per study, with its number, before the big tables.

@@ -920,6 +920,13 @@ TEST(LdlpgsVocabulary, OrderOnALargeMatrixPrintsProgress) {
   EXPECT_NE(r.err.find("ldlpgs order: chain-1400: meca"), std::string::npos) << r.err;
 }
 
+TEST(LdlpgsVocabulary, BenchOnALargeMatrixPrintsProgress) {
+  const Result r = run("bench chain:1400 --dense-max 10 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* solver : {"ldlpgs", "cholmod", "eigen-simplicial"})
+    EXPECT_NE(r.err.find(std::string("ldlpgs bench: chain-1400: ") + solver), std::string::npos) << r.err;
+}
+
 }  // namespace vocabulary_test
 
 }  // namespace
