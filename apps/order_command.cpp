@@ -2,7 +2,6 @@
 // fill and block flops, optionally beside CHOLMOD's own counts for the same permutations.
 #include <filesystem>
 #include <fstream>
-#include <iostream>
 
 #include "apps/commands.h"
 #include "apps/compare.h"

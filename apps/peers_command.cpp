@@ -7,7 +7,6 @@
 // An MJCF scene adds mujoco-mjcf, MuJoCo stepping the file itself.
 #include <cmath>
 #include <cstdio>
-#include <iostream>
 #include <limits>
 #include <nlohmann/json.hpp>
 

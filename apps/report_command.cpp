@@ -18,7 +18,6 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
 #include <memory>
 #include <thread>
 
@@ -265,10 +264,13 @@ Command add_report_command(CLI::App& app) {
     const std::string index_path = out_dir + "/index.md";
     if (!std::ofstream(index_path)) throw InputError(index_path + ": cannot write");
     // the body in memory: the key findings that open the file are known only at the end
-    char* body = nullptr;
-    size_t body_size = 0;
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> index(open_memstream(&body, &body_size), std::fclose);
-    std::unique_ptr<char, void (*)(void*)> body_owner(nullptr, std::free);
+    struct Buffer {  // declared before the stream: freed after the stream's close sets it
+      char* data = nullptr;
+      size_t size = 0;
+      ~Buffer() { std::free(data); }
+    } body;
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> index(open_memstream(&body.data, &body.size), std::fclose);
+    if (!index) throw InputError(index_path + ": cannot buffer the report");
     std::FILE* md = index.get();
     bool ok = true;
 
@@ -432,12 +434,11 @@ Command add_report_command(CLI::App& app) {
     print_stability_markdown(md, breaks);
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::fprintf(md, "\nThe report took %.0f s.\n", elapsed);
-    index.reset();  // body, body_size now final
-    body_owner.reset(body);
+    index.reset();  // body.data and body.size now final
     {
       std::ofstream file(index_path);
       file << head << key_findings(out_dir, results, checks, talk_rows, points, breaks)
-           << std::string_view(body, body_size);
+           << std::string_view(body.data, body.size);
       if (!file) throw InputError(index_path + ": cannot write");
     }
     if (!python.empty()) ok = run_script(python, "render_html.py", quoted(index_path) + " " + quoted(out_dir + "/index.html")) && ok;

@@ -1,7 +1,6 @@
 // ldlpgs sweep: speed against error on the hard cases (apps/sweep.h), as Markdown tables and,
 // with --json or --json-file FILE, the points papers/plot_speed_vs_error.py draws.
 #include <fstream>
-#include <iostream>
 
 #include "apps/commands.h"
 #include "apps/options.h"

@@ -2,7 +2,6 @@
 // permutation (factor/verify.h); exit code 1 when they disagree beyond the printed tolerance.
 #include <cmath>
 #include <cstdio>
-#include <iostream>
 
 #include "apps/commands.h"
 #include "apps/compare.h"
