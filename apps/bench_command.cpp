@@ -6,13 +6,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <iostream>
 #include <memory>
 #include <optional>
 #include <utility>
 
 #include "apps/commands.h"
 #include "apps/compare.h"
+#include "apps/options.h"
 #include "bench/ldlpgs_solver.h"
 #include "bench/median.h"
 
@@ -57,35 +57,36 @@ Timing time_solver(DirectSolver& s, const SymmetricCsc& a) {
   return t;
 }
 
-nlohmann::json number(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
-
 }  // namespace
 
 Command add_bench_command(CLI::App& app) {
   struct Options {
-    std::string matrix, blocks = "auto", ordering = "meca";
-    int max_block = 6, dense_max = 1000;
+    ProblemArgs problem;
+    std::string ordering = "meca";
+    int dense_max = 1000;
     bool json = false;
   };
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("bench", "Time the block LDL^T against CHOLMOD and Eigen on one matrix");
-  cmd->add_option("matrix", o->matrix, "Matrix Market file (symmetric), or FAMILY:CONSTRAINTS for a generated "
-                                       "mechanism with H = J W J^T values (e.g. heavy:22)")->required();
-  cmd->add_option("--blocks", o->blocks, "Block partition: auto, N (uniform) or a file of block sizes")->capture_default_str();
-  cmd->add_option("--max-block", o->max_block, "Largest block --blocks auto forms")->capture_default_str();
-  cmd->add_option("--ordering", o->ordering, "Ordering name (all solvers use its scalar permutation)")->capture_default_str();
+  add_problem_options(cmd, &o->problem);
+  add_ordering_option(cmd, &o->ordering, "Ordering name (all solvers use its scalar permutation)");
   cmd->add_option("--dense-max", o->dense_max, "Largest dimension Eigen's dense LDLT is timed on")->capture_default_str();
-  cmd->add_flag("--json", o->json, "Print one JSON object instead of a table");
+  add_json_flag(cmd, &o->json);
   return [o] {
     const OrderingInfo& info = find_ordering(o->ordering);
-    const Problem p = load_problem(o->matrix, o->blocks, o->max_block);
+    const Problem p = load_problem(o->problem.spec, o->problem.blocks, o->problem.max_block);
     const Ordering ordering = compute_ordering(info, p.blocks, p.a);
     auto ours = std::make_unique<LdlpgsSolver>(p.a, p.blocks, ordering);
     const double flops = ours->symbolic().flops();
-    std::vector<Timing> timings = {time_solver(*ours, p.a)};
+    // each solver is timed for at least 0.2 s, and a large matrix's factorizations take seconds
+    auto timed = [&](DirectSolver& s) {
+      if (p.a.n >= kProgressDimension) progress("bench", p.name + ": " + std::string(s.name()));
+      return time_solver(s, p.a);
+    };
+    std::vector<Timing> timings = {timed(*ours)};
     for (std::string_view name : direct_solver_names()) {
       if (name == "eigen-dense" && p.a.n > o->dense_max) continue;
-      timings.push_back(time_solver(*make_direct_solver(name, p.a, ordering.perm), p.a));
+      timings.push_back(timed(*make_direct_solver(name, p.a, ordering.perm)));
     }
     auto find = [&](std::string_view name) -> const Timing* {
       for (const Timing& t : timings)
@@ -96,27 +97,23 @@ Command add_bench_command(CLI::App& app) {
     const double gflops = flops / (mine.factor_us * 1e3);
     if (o->json) {
       nlohmann::json j = {{"matrix", p.name}, {"n", p.a.n}, {"blocks", p.blocks.num_blocks()},
-                          {"ordering", ordering.name}, {"flops", flops}, {"gflops", number(gflops)},
+                          {"ordering", ordering.name}, {"flops", flops}, {"gflops", number_or_null(gflops)},
                           {"symbolic_bytes", ours->symbolic().memory_bytes()},
                           {"rsi_entries", ours->symbolic().rsi_size()}};
-      auto field = [&](const char* key, std::string_view name, double Timing::*member) {
+      // ours unprefixed, every other solver's fields prefixed with its name (null: not run)
+      std::vector<std::string_view> names = {mine.name};
+      names.insert(names.end(), direct_solver_names().begin(), direct_solver_names().end());
+      for (std::string_view name : names) {
+        std::string prefix(name);
+        std::replace(prefix.begin(), prefix.end(), '-', '_');
+        prefix += '_';
+        if (name == mine.name) prefix.clear();
         const Timing* t = find(name);
-        j[key] = t ? number(t->*member) : nlohmann::json(nullptr);
-      };
-      field("ldlpgs_factor_us", "ldlpgs", &Timing::factor_us);
-      field("ldlpgs_solve_us", "ldlpgs", &Timing::solve_us);
-      field("cholmod_factor_us", "cholmod", &Timing::factor_us);
-      field("cholmod_solve_us", "cholmod", &Timing::solve_us);
-      field("cholmod_supernodal_factor_us", "cholmod-supernodal", &Timing::factor_us);
-      field("cholmod_supernodal_solve_us", "cholmod-supernodal", &Timing::solve_us);
-      field("eigen_simplicial_factor_us", "eigen-simplicial", &Timing::factor_us);
-      field("eigen_simplicial_solve_us", "eigen-simplicial", &Timing::solve_us);
-      field("eigen_dense_factor_us", "eigen-dense", &Timing::factor_us);
-      field("eigen_dense_solve_us", "eigen-dense", &Timing::solve_us);
-      nlohmann::json errors;
-      for (const Timing& t : timings) errors[t.name] = number(t.backward_error);
-      j["backward_error"] = errors;
-      std::cout << j.dump(2) << '\n';
+        j[prefix + "factor_us"] = t ? number_or_null(t->factor_us) : nlohmann::json(nullptr);
+        j[prefix + "solve_us"] = t ? number_or_null(t->solve_us) : nlohmann::json(nullptr);
+        j[prefix + "backward_error"] = t ? number_or_null(t->backward_error) : nlohmann::json(nullptr);
+      }
+      print_json(json_header("bench", std::move(j)));
     } else {
       std::printf("%s: n = %d, %d blocks, ordering %s, %.0f flops, symbolic phase holds %lld bytes\n", p.name.c_str(),
                   p.a.n, p.blocks.num_blocks(), ordering.name.c_str(), flops,

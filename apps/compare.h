@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,14 +39,19 @@ struct Row {
   std::optional<CholmodCounts> cholmod;  // CHOLMOD's counts for the same permutation
 };
 
-std::vector<Row> compare(const Problem& p, const std::vector<std::string>& names, bool with_cholmod);
+// `before` (if given) is called with each ordering's name before it runs: order's progress line.
+std::vector<Row> compare(const Problem& p, const std::vector<std::string>& names, bool with_cholmod,
+                         const std::function<void(const std::string&)>& before = {});
 
 // One table: a row per ordering, the best of each column marked '*'.
 void print_table(std::FILE* out, const Problem& p, const std::vector<Row>& rows);
 // Three tables (nnz(L), flops, block flops): a row per problem, a column per ordering, the
 // best of each row in bold.
 void print_markdown_by_metric(std::FILE* out, const std::vector<std::pair<Problem, std::vector<Row>>>& results);
+// The problem's matrix, n, blocks and a row per ordering (README.md, "Command-line vocabulary").
 nlohmann::json to_json(const Problem& p, const std::vector<Row>& rows);
+// One verification (verify --json, report/data/verification.*).
+nlohmann::json to_json(const Problem& p, const Verification& v);
 
 // The block LDL^T against CHOLMOD (factor/verify.h), one row per problem, as text or Markdown
 // (verify_command.cpp).

@@ -1,14 +1,116 @@
 // ldlpgs: the command-line program. Subcommands: order, report, verify, bench, step, export, spy, sweep, peers (ldlpgs SUBCOMMAND --help).
-// Bad input ends with a one-line message naming the file, line and problem, and exit code 2.
+// Bad input ends with a one-line message naming the file, line and problem, and exit code 2; the
+// options every subcommand shares, and their names, are in apps/options.h (README.md,
+// "Command-line vocabulary").
+#include <algorithm>
 #include <cstdio>
 #include <map>
+#include <sstream>
+#include <string_view>
 
 #include "apps/commands.h"
 #include "ldlpgs/sparse/error.h"
+#include "ldlpgs/version.h"
+
+namespace {
+
+// Levenshtein distance: a misspelt name is a few insertions, deletions or substitutions away.
+size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// "; did you mean X?" for the nearest of `names` within a third of the word's length, else "".
+std::string suggestion(const std::string& word, const std::vector<std::string>& names) {
+  const std::string* best = nullptr;
+  size_t best_distance = word.size() / 3 + 1;
+  for (const std::string& name : names) {
+    const size_t d = edit_distance(word, name);
+    if (d < best_distance) best = &name, best_distance = d;
+  }
+  return best ? "; did you mean " + *best + "?" : "";
+}
+
+// The long names a user may type on `cmd`, with dashes; old spellings (hidden) are not suggested.
+std::vector<std::string> option_names(const CLI::App* cmd) {
+  std::vector<std::string> names;
+  for (const CLI::Option* o : cmd->get_options()) {
+    if (o->get_group().empty()) continue;
+    for (const std::string& n : o->get_lnames()) names.push_back("--" + n);
+  }
+  return names;
+}
+
+std::vector<std::string> subcommand_names(const CLI::App& app) {
+  std::vector<std::string> names;
+  for (const CLI::App* sub : app.get_subcommands({})) names.push_back(sub->get_name());
+  return names;
+}
+
+// No subcommand, or one this program does not have: the usage, then what it got.
+int usage_error(const CLI::App& app, const std::string& got) {
+  std::fprintf(stderr, "%s", app.help().c_str());
+  std::fprintf(stderr, "ldlpgs: %s\n", got.c_str());
+  return 2;
+}
+
+// An argument CLI11 did not place (`what`: its ExtrasError's message, the arguments after the
+// colon): an unknown subcommand, a misspelt option (the nearest one named), or a second list
+// item after a space (lists are comma-separated).
+int extras_error(const CLI::App& app, const std::string& what, int argc, char** argv) {
+  // CLI11 lists the arguments in no particular order: the first in argv, an option before a word
+  std::vector<std::string> extras;
+  std::stringstream list(what.substr(what.rfind(": ") + 2));
+  for (std::string word; list >> word;) extras.push_back(word);
+  std::string extra;
+  for (int pass = 0; pass < 2 && extra.empty(); ++pass)
+    for (int i = 1; i < argc && extra.empty(); ++i)
+      if ((pass == 1 || argv[i][0] == '-') && std::find(extras.begin(), extras.end(), argv[i]) != extras.end())
+        extra = argv[i];
+  if (extra.empty() && !extras.empty()) extra = extras.front();
+  const std::vector<CLI::App*> parsed = app.get_subcommands();
+  if (parsed.empty()) {
+    if (extra.starts_with("-")) return usage_error(app, "unknown option " + extra + " (no subcommand given)");
+    return usage_error(app, "unknown subcommand '" + extra + "'" + suggestion(extra, subcommand_names(app)));
+  }
+  const CLI::App* cmd = parsed.front();
+  const std::string prefix = "ldlpgs " + cmd->get_name() + ": ";
+  if (extra.starts_with("-")) {
+    const std::string name = extra.substr(0, extra.find('='));
+    std::fprintf(stderr, "%sunknown option %s%s\n", prefix.c_str(), name.c_str(),
+                 suggestion(name, option_names(cmd)).c_str());
+    return 2;
+  }
+  // the last option before the word: a list option means a list written with spaces
+  int at = argc - 1;
+  while (at > 0 && argv[at] != extra) --at;
+  int k = at - 1;
+  while (k > 0 && argv[k][0] != '-') --k;
+  const CLI::Option* option = k > 0 ? cmd->get_option_no_throw(std::string(argv[k]).substr(0, std::string(argv[k]).find('='))) : nullptr;
+  if (option && option->get_delimiter() == ',' && at > 1)
+    std::fprintf(stderr, "%sunexpected argument '%s': lists are comma-separated (%s %s,%s)\n", prefix.c_str(),
+                 extra.c_str(), argv[k], argv[at - 1], extra.c_str());
+  else
+    std::fprintf(stderr, "%sunexpected argument '%s'\n", prefix.c_str(), extra.c_str());
+  return 2;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"ldlpgs: block-sparse LDL^T with graph-elimination orderings, for mechanisms"};
-  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("ldlpgs ") + ldlpgs::kVersion);
+  app.require_subcommand(0, 1);
   std::map<CLI::App*, ldlpgs::cli::Command> commands;
   auto add = [&](ldlpgs::cli::Command (*make)(CLI::App&)) {
     const size_t before = app.get_subcommands({}).size();
@@ -30,10 +132,19 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ExtrasError& e) {
+    return extras_error(app, e.what(), argc, argv);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "ldlpgs: %s\n", e.what());
+    const std::vector<CLI::App*> parsed = app.get_subcommands();
+    std::fprintf(stderr, "ldlpgs%s: %s\n", parsed.empty() ? "" : (" " + parsed.front()->get_name()).c_str(), e.what());
+    return 2;
+  } catch (const ldlpgs::InputError& e) {  // an old spelling refused while parsing (apps/options.h)
+    std::fprintf(stderr, "ldlpgs %s: %s\n", app.get_subcommands().front()->get_name().c_str(), e.what());
     return 2;
   }
+  if (app.get_subcommands().empty()) return usage_error(app, "no subcommand given");
   try {
     for (CLI::App* sub : app.get_subcommands()) return commands.at(sub)();
   } catch (const ldlpgs::InputError& e) {

@@ -7,11 +7,11 @@
 // An MJCF scene adds mujoco-mjcf, MuJoCo stepping the file itself.
 #include <cmath>
 #include <cstdio>
-#include <iostream>
 #include <limits>
 #include <nlohmann/json.hpp>
 
 #include "apps/commands.h"
+#include "apps/options.h"
 #include "bench/peers/peer.h"
 #include "ldlpgs/physics/mjcf.h"
 #include "ldlpgs/sparse/error.h"
@@ -26,8 +26,6 @@ struct PeersArgs {
   std::vector<std::string> engines;  // empty: all
   bool json = false;
 };
-
-nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 
 int run_peers(const PeersArgs& a) {
   const Mechanism m = load_mechanism(a.scene);
@@ -94,26 +92,26 @@ int run_peers(const PeersArgs& a) {
         j["skipped"] = r.skipped;
       } else {
         j["step_us"] = r.step_us;
-        j["separation"] = number_or_null(r.separation);
-        j["trajectory_error"] = number_or_null(r.trajectory_error);
-        j["rk4_trajectory_error"] = number_or_null(against_rk4(r));
-        j["direct_same_step_error"] = number_or_null(same_step(r));
+        j["position_error_m"] = number_or_null(r.separation);
+        j["trajectory_error_m"] = number_or_null(r.trajectory_error);
+        j["rk4_trajectory_error_m"] = number_or_null(against_rk4(r));
+        j["direct_same_step_error_m"] = number_or_null(same_step(r));
         j["finite"] = r.finite;
       }
       rows.push_back(j);
     }
-    const nlohmann::json out = {{"scene", m.name},
+    nlohmann::json out = {{"scene", m.name},
                                 {"bodies", m.bodies.size()},
                                 {"constraints", m.constraints.size()},
                                 {"rows", m.num_rows()},
-                                {"timestep", m.timestep},
+                                {"timestep_s", m.timestep},
                                 {"steps", steps},
-                                {"seconds", a.seconds},
+                                {"simulated_s", a.seconds},
                                 {"reference", reference.ran() ? nlohmann::json(reference.engine) : nlohmann::json(nullptr)},
                                 {"rk4_reference", rk4.ran() ? nlohmann::json(rk4.engine) : nlohmann::json(nullptr)},
-                                {"references_apart", number_or_null(references_apart)},
+                                {"references_apart_m", number_or_null(references_apart)},
                                 {"engines", rows}};
-    std::cout << out.dump(2) << '\n';
+    print_json(json_header("peers", std::move(out)));
   } else {
     std::printf("%s: %zu bodies, %zu constraints, %d rows; %d steps of %g s; reference: %s; RK4 reference: %s",
                 m.name.c_str(), m.bodies.size(), m.constraints.size(), m.num_rows(), steps, m.timestep,
@@ -140,8 +138,8 @@ Command add_peers_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("peers", "Step a scene in ODE, Bullet, MuJoCo and with our solvers, side by side");
   cmd->add_option("scene", a->scene, "Scene file (JSON or MJCF .xml) or built-in scene name (e.g. heavy-chain-100-1000)")->required();
   cmd->add_option("--seconds", a->seconds, "Simulated time of each run")->capture_default_str();
-  cmd->add_option("--engines", a->engines, "Engines to run (default: all)")->delimiter(',');
-  cmd->add_flag("--json", a->json, "Print one JSON object");
+  add_list_option(cmd, "--engines", &a->engines, "Engines to run (default: all)");
+  add_json_flag(cmd, &a->json);
   return [a] { return run_peers(*a); };
 }
 

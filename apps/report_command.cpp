@@ -6,26 +6,29 @@
 //   4. speed against error of the solvers on the hard cases, and where each breaks
 //      (apps/sweep.h, papers/speed-vs-error.md),
 //   5. the figures (matplotlib) and index.html (python3-markdown).
-// It writes a directory (report/ by default) holding index.md, index.html, the figures and the
-// data they are drawn from; the orderings tables go to standard output as well, and a progress
+// It writes a directory (report/ by default) holding index.md (opening with a key finding per
+// study), index.html, the figures, and data/: each big table as JSON and CSV records (one flat
+// object or line per row, for pandas); the orderings tables go to standard output as well, and a progress
 // line per stage and problem to standard error. Exit code 1 if a factorization disagrees with
 // CHOLMOD's or a stage fails, 2 for bad input.
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
 #include <memory>
 #include <thread>
 
 #include "apps/commands.h"
 #include "apps/compare.h"
+#include "apps/options.h"
 #include "apps/sweep.h"
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/physics/scenes.h"
 #include "ldlpgs/sparse/families.h"
+#include "ldlpgs/version.h"
 
 namespace ldlpgs::cli {
 
@@ -84,6 +87,139 @@ std::string machine() {
   return text;
 }
 
+// One table of the report as data: DIR/NAME.json ({"ldlpgs_version", "command": "report",
+// "table", "records"}: one object per row) and DIR/NAME.csv, one line per row, nested objects flattened to a_b columns.
+void write_table(const fs::path& dir, const std::string& name, const nlohmann::json& rows) {
+  std::ofstream(dir / (name + ".json")) << json_header("report", {{"table", name}, {"records", rows}}).dump(1) << '\n';
+  std::vector<nlohmann::json> flat;
+  std::vector<std::string> columns;
+  for (const nlohmann::json& row : rows) {
+    nlohmann::json f = row.flatten();  // keys "/a/b"
+    nlohmann::json line = nlohmann::json::object();
+    for (auto& [key, value] : f.items()) {
+      std::string column = key.substr(1);
+      std::replace(column.begin(), column.end(), '/', '_');
+      if (std::find(columns.begin(), columns.end(), column) == columns.end()) columns.push_back(column);
+      line[column] = value;
+    }
+    flat.push_back(std::move(line));
+  }
+  std::ofstream csv(dir / (name + ".csv"));
+  for (size_t c = 0; c < columns.size(); ++c) csv << (c ? "," : "") << columns[c];
+  csv << '\n';
+  for (const nlohmann::json& line : flat) {
+    for (size_t c = 0; c < columns.size(); ++c) {
+      if (c) csv << ',';
+      if (!line.contains(columns[c]) || line[columns[c]].is_null()) continue;  // empty: NaN in pandas
+      const nlohmann::json& v = line[columns[c]];
+      // strings quoted as CSV does, a quote doubled
+      if (v.is_string()) {
+        std::string text = v.get<std::string>(), q;
+        for (char ch : text) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+        csv << '"' << q << '"';
+      } else {
+        csv << v.dump();
+      }
+    }
+    csv << '\n';
+  }
+}
+
+// A paper's path as a link from the report directory when the report is inside the project
+// (report/ by default); outside it, the path in the project only: a link would carry this
+// machine's layout into the report.
+std::string paper(const std::string& out_dir, const std::string& name) {
+  const fs::path source = fs::weakly_canonical(LDLPGS_SOURCE_DIR), dir = fs::weakly_canonical(out_dir);
+  const std::string inside = fs::relative(dir, source).string();
+  if (inside.empty() || inside.starts_with("..")) return "`papers/" + name + "`";
+  return "[papers/" + name + "](" + fs::relative(source / "papers" / name, dir).string() + ")";
+}
+
+// The key findings: one sentence per study, with its number, before the big tables.
+std::string key_findings(const std::string& out_dir, const std::vector<std::pair<Problem, std::vector<Row>>>& results,
+                         const std::vector<std::pair<std::string, Verification>>& checks, int talk_rows,
+                         const std::vector<SweepPoint>& points, const std::vector<Breakdown>& breaks) {
+  std::string md = "## Key findings\n\n";
+  char line[1024];
+  // Orderings: MECA's scalar nnz(L) against AMD's on the block graph, as a geometric mean of ratios
+  double log_sum = 0;
+  int compared = 0, no_larger = 0;
+  for (const auto& [p, rows] : results) {
+    const Row *meca = nullptr, *amd = nullptr;
+    for (const Row& r : rows) {
+      if (r.summary.name == "meca") meca = &r;
+      if (r.summary.name == "amd") amd = &r;
+    }
+    if (!meca || !amd || amd->summary.nnz_L == 0) continue;
+    const double ratio = static_cast<double>(meca->summary.nnz_L) / static_cast<double>(amd->summary.nnz_L);
+    log_sum += std::log(ratio);
+    ++compared;
+    no_larger += ratio <= 1;
+  }
+  if (compared)
+    std::snprintf(line, sizeof line, "- **Orderings**: MECA's nnz(L) is %.3f times AMD's (geometric mean over %d "
+                  "problems), no larger on %d of them (%s).\n",
+                  std::exp(log_sum / compared), compared, no_larger, paper(out_dir, "orderings.md").c_str());
+  else
+    std::snprintf(line, sizeof line, "- **Orderings**: %zu problems compared; MECA and AMD were not both run (%s).\n",
+                  results.size(), paper(out_dir, "orderings.md").c_str());
+  md += line;
+  int agree = 0;
+  double worst = 0;
+  for (const auto& [name, v] : checks) {
+    agree += v.ok;
+    worst = std::max({worst, v.L_rel_diff, v.D_rel_diff, v.x_rel_diff});
+  }
+  // the tolerance grows with the condition estimate, so the largest difference alone says little
+  std::snprintf(line, sizeof line, "- **The block LDL^T against CHOLMOD**: %d of %zu problems agree within "
+                "max(1e-10, eps cond_1); the largest relative difference of L, D or x is %.1e (%s).\n",
+                agree, checks.size(), worst, paper(out_dir, "factor.md").c_str());
+  md += line;
+  if (talk_rows > 0)
+    std::snprintf(line, sizeof line, "- **The talk's figures**: %d mechanisms measured beside the talk's numbers "
+                  "(%s).\n", talk_rows, paper(out_dir, "talk-figures.md").c_str());
+  else
+    std::snprintf(line, sizeof line, "- **The talk's figures**: not made in this run (%s).\n",
+                  paper(out_dir, "talk-figures.md").c_str());
+  md += line;
+  // Speed against error: on how many cases each solver gets within 1 mm at all
+  std::string reached;
+  std::vector<std::string> cases;
+  for (const SweepPoint& p : points)
+    if (std::find(cases.begin(), cases.end(), p.scene) == cases.end()) cases.push_back(p.scene);
+  for (const char* solver : {"ldl-pgs", "pgs", "block-gs", "direct"}) {
+    int within = 0, ran = 0;
+    for (const std::string& c : cases) {
+      bool tried = false, ok = false;
+      for (const SweepPoint& p : points)
+        if (p.scene == c && p.solver == solver) {
+          tried = true;
+          ok = ok || (!p.failed() && p.error_max <= 1e-3);
+        }
+      ran += tried;
+      within += ok;
+    }
+    if (ran) reached += std::string(reached.empty() ? "" : ", ") + solver + " " + std::to_string(within) + " of " +
+                        std::to_string(ran);
+  }
+  std::snprintf(line, sizeof line, "- **Speed against error**: cases held within 1 mm for the whole run at some "
+                "iteration count: %s (%s).\n", reached.c_str(), paper(out_dir, "speed-vs-error.md").c_str());
+  md += line;
+  std::string held;
+  for (const char* solver : {"ldl-pgs", "pgs", "block-gs", "direct"}) {
+    int never = 0, ran = 0;
+    for (const Breakdown& b : breaks)
+      if (b.solver == solver) ++ran, never += b.breaks == 0;
+    if (ran) held += std::string(held.empty() ? "" : ", ") + solver + " " + std::to_string(never) + " of " +
+                     std::to_string(ran);
+  }
+  std::snprintf(line, sizeof line, "- **Where each solver breaks**: cases that never broke up to 1e9 times the "
+                "scene's mass ratio (10 iterations): %s (%s).\n\n", held.c_str(),
+                paper(out_dir, "speed-vs-error.md").c_str());
+  md += line;
+  return md;
+}
+
 }  // namespace
 
 Command add_report_command(CLI::App& app) {
@@ -98,16 +234,16 @@ Command add_report_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("report", "The main job: orderings, CHOLMOD verification, the talk's table, "
                                                 "speed against error; writes a report directory");
   cmd->add_option("--matrices", o->matrices, "Directory of Matrix Market files")->capture_default_str();
-  cmd->add_option("--sizes", o->sizes, "Constraint counts of the generated mechanisms")->capture_default_str()
-      ->delimiter(',');
-  cmd->add_option("--orderings", o->orderings, "Comma-separated ordering names, or all")->capture_default_str();
+  add_list_option(cmd, "--sizes", &o->sizes, "Constraint counts of the generated mechanisms")->capture_default_str();
+  add_ordering_option(cmd, &o->orderings, "Orderings compared", true);
   cmd->add_flag("--markdown", o->markdown, "Markdown tables on standard output (papers/orderings.md)");
   cmd->add_flag("--cholmod", o->cholmod, "Add CHOLMOD's counts for each permutation");
   cmd->add_option("--verify", o->verify, "Ordering of the factorizations verified against CHOLMOD")->capture_default_str();
-  cmd->add_option("--out", o->out, "Report directory to write")->capture_default_str();
+  cmd->add_option("--out-dir", o->out, "Report directory to write")->capture_default_str();
+  add_alias(cmd, "--out", &o->out);
   cmd->add_flag("--full", o->full, "The paper's speed-against-error sweep (papers/speed-vs-error.md) instead of the quick one");
-  cmd->add_option("--cases", o->cases, "Scenes of the speed-against-error and stability stages (default: the hard "
-                                       "cases)")->delimiter(',');
+  add_list_option(cmd, "--cases", &o->cases, "Scenes of the speed-against-error and stability stages (default: the "
+                                             "hard cases)");
   cmd->add_flag("--no-figures", o->no_figures, "Skip the stages that need python3 (talk's table, plots, index.html)");
   return [o] {
     const auto start = std::chrono::steady_clock::now();
@@ -122,20 +258,30 @@ Command add_report_command(CLI::App& app) {
     std::sort(files.begin(), files.end());
     for (const std::string& c : o->cases) load_mechanism(c);  // refuse a bad name before the long work
     fs::create_directories(fs::path(o->out) / "figures", ec);
+    if (!ec) fs::create_directories(fs::path(o->out) / "data", ec);
     if (ec) throw InputError(o->out + ": cannot create the report directory (" + ec.message() + ")");
-    const std::string out_dir = fs::absolute(o->out).string(), figures = out_dir + "/figures";
+    const std::string out_dir = fs::absolute(o->out).string(), figures = out_dir + "/figures", data = out_dir + "/data";
     const std::string index_path = out_dir + "/index.md";
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> index(std::fopen(index_path.c_str(), "w"), std::fclose);
-    if (!index) throw InputError(index_path + ": cannot write");
+    if (!std::ofstream(index_path)) throw InputError(index_path + ": cannot write");
+    // the body in memory: the key findings that open the file are known only at the end
+    struct Buffer {  // declared before the stream: freed after the stream's close sets it
+      char* data = nullptr;
+      size_t size = 0;
+      ~Buffer() { std::free(data); }
+    } body;
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> index(open_memstream(&body.data, &body.size), std::fclose);
+    if (!index) throw InputError(index_path + ": cannot buffer the report");
     std::FILE* md = index.get();
     bool ok = true;
 
     const std::time_t now = std::time(nullptr);
     char date[64];
     std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
-    std::fprintf(md, "# ldlpgs report\n\nMade by `./build.sh report` (`build/bin/ldlpgs report%s%s`) on %s.\n"
-                 "Machine: %s.\n\n",
-                 o->full ? " --full" : "", o->out == "report" ? "" : (" --out " + o->out).c_str(), date, machine().c_str());
+    char head[2048];
+    std::snprintf(head, sizeof head, "# ldlpgs report\n\nMade by `./build.sh report` (`build/bin/ldlpgs report%s%s`, "
+                  "ldlpgs %s) on %s.\nMachine: %s. The tables as data (JSON and CSV, for pandas): `data/`.\n\n",
+                  o->full ? " --full" : "", o->out == "report" ? "" : (" --out-dir " + o->out).c_str(), kVersion,
+                  date, machine().c_str());
     std::fprintf(md, "1. [Orderings](#1-orderings): fill and flops of MDA and MECA against AMD and METIS\n"
                  "2. [The block LDL^T against CHOLMOD](#2-the-block-ldlt-against-cholmod)\n"
                  "3. [The talk's figures](#3-the-talks-figures)\n"
@@ -189,14 +335,26 @@ Command add_report_command(CLI::App& app) {
                  o->sizes.size(), o->matrices.c_str());
     print_markdown_by_metric(md, results);
     for (const std::string& s : skipped) std::fprintf(md, "\nSkipped: %s\n", s.c_str());
+    nlohmann::json ordering_rows = nlohmann::json::array();
+    for (const auto& [p, rows] : results) {
+      nlohmann::json j = to_json(p, rows);
+      for (nlohmann::json& r : j["results"]) {
+        for (const char* key : {"matrix", "n", "blocks"}) r[key] = j[key];
+        ordering_rows.push_back(std::move(r));
+      }
+    }
+    write_table(data, "orderings", ordering_rows);
 
     // 2. The factorization of every problem, in the ordering o->verify, against CHOLMOD's.
     progress(2, "the block LDL^T of every problem against CHOLMOD");
     std::vector<std::pair<std::string, Verification>> checks;
+    nlohmann::json verification_rows = nlohmann::json::array();
     for (const auto& [p, rows] : results) {
       std::fprintf(stderr, "report: verifying %s\n", p.name.c_str());
       checks.emplace_back(p.name, verify_against_cholmod(p.a, p.blocks, compute_ordering(verify_ordering, p.blocks, p.a)));
+      verification_rows.push_back(to_json(p, checks.back().second));
     }
+    write_table(data, "verification", verification_rows);
     std::printf(o->markdown ? "\n### The block LDL^T against CHOLMOD\n\n" : "\nThe block LDL^T against CHOLMOD's simplicial LDL^T, same permutation:\n");
     print_verification_table(stdout, checks, o->markdown);
     const bool all_agree = std::all_of(checks.begin(), checks.end(), [](const auto& c) { return c.second.ok; });
@@ -210,6 +368,7 @@ Command add_report_command(CLI::App& app) {
 
     // 3. The talk's table (papers/talk_figures.py runs spy, export, bench and step of this program).
     const std::string python = o->no_figures ? "" : find_python();
+    int talk_rows = 0;
     if (python.empty() && !o->no_figures)
       std::fprintf(stderr, "report: python3 with matplotlib and markdown not found (Debian's python3-matplotlib and "
                            "python3-markdown; ./build.sh report installs them): the talk's table, the plots and "
@@ -221,6 +380,9 @@ Command add_report_command(CLI::App& app) {
     } else {
       const std::string self = fs::read_symlink("/proc/self/exe").string(), table = out_dir + "/talk-table.md";
       if (run_script(python, "talk_figures.py", quoted(self) + " --figures " + quoted(figures), table)) {
+        const std::string text = read_file(table);
+        for (size_t at = text.find("\n|"); at != std::string::npos; at = text.find("\n|", at + 1)) ++talk_rows;
+        talk_rows = std::max(0, talk_rows - 1);  // the header's rule line
         std::fprintf(md, "Per mechanism, the talk's figure / ours (papers/talk-figures.md says how each is measured "
                      "and why they differ); made by `python3 papers/talk_figures.py build/bin/ldlpgs --figures "
                      "%s/figures`.\n\n%s\n",
@@ -240,18 +402,19 @@ Command add_report_command(CLI::App& app) {
     const std::vector<std::string> cases = o->cases.empty() ? sweep_cases(o->full) : o->cases;
     const double seconds = o->full ? 2.0 : 1.0;
     const std::vector<SweepPoint> points = speed_vs_error(cases, sweep_iterations(o->full), seconds, true);
-    const std::string sweep_json = out_dir + "/sweep.json";
-    std::ofstream(sweep_json) << to_json(points).dump(1) << '\n';
+    const std::string sweep_data = data + "/sweep.json";
+    write_table(data, "sweep", to_json(points));
     std::fprintf(md, "\n## 4. Speed against error\n\nEach hard case stepped for %g s of simulated time with pgs, "
                  "block-gs and ldl-pgs at several iteration counts, and direct (equality-only scenes); the median "
                  "solve time per step against the largest position error at the end (papers/speed-vs-error.md "
-                 "reads the full version). Made by `build/bin/ldlpgs sweep%s --json %s/sweep.json`.\n\n",
-                 seconds, o->full ? " --full" : "", o->out.c_str());
+                 "reads the full version). Made by `build/bin/ldlpgs sweep%s --json-file FILE`; the points are in "
+                 "`data/sweep.json`.\n\n",
+                 seconds, o->full ? " --full" : "");
     print_sweep_summary(md, points);
     std::printf("\nSpeed against error, %g s simulated (best error reached; fastest run within 1 mm):\n", seconds);
     print_sweep_summary(stdout, points);
     if (!python.empty()) {
-      if (run_script(python, "plot_speed_vs_error.py", quoted(sweep_json) + " " + quoted(figures))) {
+      if (run_script(python, "plot_speed_vs_error.py", quoted(sweep_data) + " " + quoted(figures))) {
         for (const std::string& c : cases) std::fprintf(md, "\n![%s](figures/speed-vs-error-%s.png)\n", c.c_str(), c.c_str());
       } else {
         ok = false;
@@ -262,6 +425,7 @@ Command add_report_command(CLI::App& app) {
 
     progress(5, "where each solver breaks, the figures and index.html");
     const std::vector<Breakdown> breaks = stability(cases, 10, seconds, true);
+    write_table(data, "stability", to_json(breaks));
     std::fprintf(md, "\n## 5. Where each solver breaks\n\nThe heaviest body of each case made 10, 100, ... times "
                  "heavier (mass and inertia) until the run fails: a non-finite state, a position error above 1 cm, "
                  "or an energy blow-up; 10 iterations, dt <= 2.5 ms, %g s. Made by `build/bin/ldlpgs sweep%s "
@@ -270,7 +434,13 @@ Command add_report_command(CLI::App& app) {
     print_stability_markdown(md, breaks);
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::fprintf(md, "\nThe report took %.0f s.\n", elapsed);
-    index.reset();
+    index.reset();  // body.data and body.size now final
+    {
+      std::ofstream file(index_path);
+      file << head << key_findings(out_dir, results, checks, talk_rows, points, breaks)
+           << std::string_view(body.data, body.size);
+      if (!file) throw InputError(index_path + ": cannot write");
+    }
     if (!python.empty()) ok = run_script(python, "render_html.py", quoted(index_path) + " " + quoted(out_dir + "/index.html")) && ok;
     // The paths as the user named the directory (relative stays relative): nothing of this
     // machine's layout in what is printed, or pasted into the README.

@@ -1,12 +1,12 @@
-// ldlpgs spy SCENE --out FILE.json: the block structure of H_0 (the equality constraints' matrix
+// ldlpgs spy SCENE --json-file FILE.json (--json: to standard output): the block structure of H_0 (the equality constraints' matrix
 // at the initial pose) and of its block L, fill blocks marked, in pivot order, after body
 // shattering (physics/shatter.h) unless --no-shatter: the data of the talk's pictures of H and L
-// (papers/plot_spy.py draws them, papers/talk_figures.py tabulates them). --scene-out writes the
+// (papers/plot_spy.py draws them, papers/talk_figures.py tabulates them). --scene-file writes the
 // mechanism it spied, shattered or not, for `ldlpgs export` and `ldlpgs bench`.
 //
 // The file, one JSON object: scene, shattered (a body was split), shatter_threshold (null with
-// --no-shatter), shattered_bodies, welds, bodies, constraints (H_0's blocks), dim, density
-// (stored entries of the full symmetric H_0 / dim^2), ordering, flops and nnz_L (Symbolic, as
+// --no-shatter), shattered_bodies, welds, bodies, constraints and blocks (both H_0's blocks, one
+// per equality constraint), n (H_0's dimension), density (stored entries of the full symmetric H_0 / n^2), ordering, flops and nnz_L (Symbolic, as
 // ordering/metrics.h counts them), fill_blocks, and per pivot position k: pivots[k] (the block,
 // i.e. the equality constraint, eliminated k-th; rows for a scalar ordering), block_sizes[k];
 // H_blocks: [i, k] for every block of H_0's lower triangle, diagonal included, in pivot
@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "apps/commands.h"
+#include "apps/options.h"
 #include "apps/shatter_args.h"
 #include "ldlpgs/factor/symbolic.h"
 #include "ldlpgs/physics/scene.h"
@@ -33,6 +34,7 @@ namespace {
 
 struct SpyArgs {
   std::string scene, out, ordering = "meca", scene_out;
+  bool json = false;
   ShatterArgs shatter;
 };
 
@@ -89,7 +91,8 @@ int run_spy(const SpyArgs& a) {
                       {"welds", shattered.welds},
                       {"bodies", m.bodies.size()},
                       {"constraints", blocks.num_blocks()},
-                      {"dim", h.n},
+                      {"blocks", blocks.num_blocks()},
+                      {"n", h.n},
                       {"density", density},
                       {"ordering", ordering.name},
                       {"flops", symbolic.flops()},
@@ -99,13 +102,21 @@ int run_spy(const SpyArgs& a) {
                       {"block_sizes", block_sizes},
                       {"H_blocks", h_blocks},
                       {"L_blocks", l_blocks}};
-  std::ofstream out(a.out);
-  out << j.dump() << '\n';
-  if (!out) throw InputError(a.out + ": cannot write the spy file");
+  j = json_header("spy", std::move(j));
+  if (!a.out.empty()) {
+    std::ofstream out(a.out);
+    out << j.dump() << '\n';
+    if (!out) throw InputError(a.out + ": cannot write the spy file");
+  }
+  if (a.json) {
+    print_json(j);
+    return 0;
+  }
   std::printf("%s%s: %d constraints, dim(H) %d, density %.1f%%, %s: %lld fill blocks, nnz(L) %lld, %.0f flops -> %s\n",
               original.name.c_str(), j["shattered"].get<bool>() ? " (shattered)" : "", blocks.num_blocks(), h.n,
               100 * density, ordering.name.c_str(), static_cast<long long>(symbolic.num_fill_edges()),
-              static_cast<long long>(symbolic.nnz_l()), symbolic.flops(), a.out.c_str());
+              static_cast<long long>(symbolic.nnz_l()), symbolic.flops(),
+              a.out.empty() ? "--json-file FILE writes the data" : a.out.c_str());
   return 0;
 }
 
@@ -115,10 +126,13 @@ Command add_spy_command(CLI::App& app) {
   auto a = std::make_shared<SpyArgs>();
   CLI::App* cmd = app.add_subcommand("spy", "Write the block structure of a scene's H and of its L (fill marked) as JSON");
   cmd->add_option("scene", a->scene, "Scene file (JSON) or built-in scene name")->required();
-  cmd->add_option("--out", a->out, "JSON file to write (papers/plot_spy.py draws it)")->required();
-  cmd->add_option("--ordering", a->ordering, "Ordering of H's blocks")->capture_default_str();
+  cmd->add_option("--json-file", a->out, "JSON file to write (papers/plot_spy.py draws it)");
+  add_alias(cmd, "--out", &a->out);
+  add_json_flag(cmd, &a->json);
+  add_ordering_option(cmd, &a->ordering, "Ordering of H's blocks");
   add_shatter_options(cmd, &a->shatter);
-  cmd->add_option("--scene-out", a->scene_out, "Also write the mechanism spied (shattered or not) as a scene file");
+  cmd->add_option("--scene-file", a->scene_out, "Also write the mechanism spied (shattered or not) as a scene file");
+  add_alias(cmd, "--scene-out", &a->scene_out);
   return [a] { return run_spy(*a); };
 }
 

@@ -6,9 +6,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
 
 #include "apps/commands.h"
+#include "apps/options.h"
 #include "apps/shatter_args.h"
 #include "bench/median.h"
 #include "ldlpgs/physics/mjcf.h"
@@ -160,7 +160,7 @@ int run_step(const StepArgs& a) {
                         {"applied_torque_max_nm", torque_max},
                         {"welds", shattered.welds},
                         {"steps", a.steps},
-                        {"timestep", end.timestep},
+                        {"timestep_s", end.timestep},
                         {"solver", a.solver},
                         {"iterations", a.iterations},
                         {"compliance", options.compliance},
@@ -171,20 +171,20 @@ int run_step(const StepArgs& a) {
                         {"post_stabilize_iterations", post_iterations},
                         {"post_stabilize_skipped", sim.post_stabilize_skipped()},
                         {"post_stabilize_rejected", sim.post_stabilize_rejected()},
-                        {"solve_us_median", median(solve_us)},
+                        {"solve_us", median(solve_us)},
                         {"solve_us_max", worst.solve_us},
-                        {"post_stabilize_us_median", median(post_us)},
-                        {"step_us_median", median(step_us)},
-                        {"position_error_max", worst.error.position_max},
-                        {"position_error_rms_max", worst.error.position_rms},
-                        {"angular_error_max", worst.error.angular_max},
-                        {"angular_error_rms_max", worst.error.angular_rms},
-                        {"position_error_initial", error_initial.position_max},
+                        {"post_stabilize_us", median(post_us)},
+                        {"step_us", median(step_us)},
+                        {"position_error_max_m", worst.error.position_max},
+                        {"position_error_rms_max_m", worst.error.position_rms},
+                        {"angular_error_max_rad", worst.error.angular_max},
+                        {"angular_error_rms_max_rad", worst.error.angular_rms},
+                        {"position_error_initial_m", error_initial.position_max},
                         {"velocity_residual_max", worst.velocity_residual},
-                        {"energy_initial", energy_initial},
-                        {"energy_final", finite ? nlohmann::json(energy_final) : nlohmann::json(nullptr)},
+                        {"energy_initial_j", energy_initial},
+                        {"energy_final_j", finite ? nlohmann::json(energy_final) : nlohmann::json(nullptr)},
                         {"failed_steps", failed}};
-    std::cout << j.dump(2) << '\n';
+    print_json(json_header("step", std::move(j)));
   } else {
     std::printf("%s: %zu bodies, %zu constraints, %d rows; %s, %d iterations, %d steps of %g s\n", end.name.c_str(),
                 end.bodies.size(), end.constraints.size(), end.num_rows(), a.solver.c_str(), a.iterations, a.steps,
@@ -222,7 +222,7 @@ Command add_step_command(CLI::App& app) {
   cmd->add_option("--iterations", a->iterations, "Solver iterations per step")->capture_default_str();
   cmd->add_option("--steps", a->steps, "Number of steps")->capture_default_str();
   cmd->add_option("--timestep", a->timestep, "Time step in seconds (default: the scene's)");
-  cmd->add_option("--ordering", a->ordering, "Ordering of H's blocks (ldl-pgs, direct)")->capture_default_str();
+  add_ordering_option(cmd, &a->ordering, "Ordering of H's blocks (ldl-pgs, direct)");
   cmd->add_option("--compliance", a->compliance, "eps of the compliance eps diag(H)")->capture_default_str();
   cmd->add_option("--baumgarte", a->baumgarte, "Fraction of the position error corrected per step")->capture_default_str();
   cmd->add_option("--schedule", a->schedule, "ldl-pgs with inequality rows: talk, inequality-pgs or block-gs")
@@ -234,8 +234,9 @@ Command add_step_command(CLI::App& app) {
                 "Refactor at the corrected pose in each post-stabilization iteration (Newton)");
   cmd->add_flag("--curvature-target", a->curvature_target,
                 "Equality rows' velocity target includes the constraints' curvature along the motion (energy-consistent)");
-  cmd->add_option("--trace", a->trace, "Write per step and body: step,time,body,x,y,z,qw,qx,qy,qz,fx,fy,fz,tx,ty,tz (CSV; f, t: the scene's constant load)");
-  cmd->add_flag("--json", a->json, "Print one JSON object");
+  cmd->add_option("--trace-file", a->trace, "Write per step and body: step,time,body,x,y,z,qw,qx,qy,qz,fx,fy,fz,tx,ty,tz (CSV; f, t: the scene's constant load)");
+  add_alias(cmd, "--trace", &a->trace);
+  add_json_flag(cmd, &a->json);
   add_shatter_options(cmd, &a->shatter);
   return [a] { return run_step(*a); };
 }
@@ -244,15 +245,20 @@ Command add_export_command(CLI::App& app) {
   struct Args {
     std::string scene, matrix, blocks, ordering = "meca";
     double compliance = StepOptions{}.compliance;
+    bool json = false;
     ShatterArgs shatter;
   };
   auto a = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand("export", "Write H = J W J^T + eps diag(H) of a scene's initial pose and its block sizes");
   cmd->add_option("scene", a->scene, "Scene file (JSON) or built-in scene name")->required();
-  cmd->add_option("--matrix", a->matrix, "Matrix Market file to write (H over the equality constraints)")->required();
-  cmd->add_option("--blocks", a->blocks, "File of block sizes to write (one per line, the --blocks format)")->required();
+  cmd->add_option("--matrix-file", a->matrix, "Matrix Market file to write (H over the equality constraints)")->required();
+  add_alias(cmd, "--matrix", &a->matrix);
+  cmd->add_option("--blocks-file", a->blocks, "File of block sizes to write (one per line, what --blocks reads)")->required();
+  add_renamed(cmd, "--blocks", "--blocks is now --blocks-file (it writes the file; --blocks reads a partition "
+                               "in order, verify and bench)");
   cmd->add_option("--compliance", a->compliance, "eps of eps diag(H); 0 writes J W J^T itself")->capture_default_str();
-  cmd->add_option("--ordering", a->ordering, "Ordering whose flops choose the shards")->capture_default_str();
+  add_ordering_option(cmd, &a->ordering, "Ordering whose flops choose the shards");
+  add_json_flag(cmd, &a->json);
   add_shatter_options(cmd, &a->shatter);
   return [a] {
     if (!(a->compliance >= 0) || !std::isfinite(a->compliance)) throw InputError("--compliance must be finite and >= 0");
@@ -267,8 +273,17 @@ Command add_export_command(CLI::App& app) {
     if (!out) throw InputError(a->blocks + ": cannot write the block sizes");
     out << "% block sizes of " << a->matrix << ": one equality constraint per block, in row order\n";
     for (int s : sizes) out << s << '\n';
-    std::printf("%s: n = %d, %zu blocks, nnz(lower) = %lld -> %s, %s\n", m.name.c_str(), h.n, sizes.size(),
-                static_cast<long long>(h.nnz()), a->matrix.c_str(), a->blocks.c_str());
+    if (a->json) {
+      print_json(json_header("export", {{"scene", m.name},
+                                        {"n", h.n},
+                                        {"blocks", sizes.size()},
+                                        {"nnz_lower", h.nnz()},
+                                        {"matrix_file", a->matrix},
+                                        {"blocks_file", a->blocks}}));
+    } else {
+      std::printf("%s: n = %d, %zu blocks, nnz(lower) = %lld -> %s, %s\n", m.name.c_str(), h.n, sizes.size(),
+                  static_cast<long long>(h.nnz()), a->matrix.c_str(), a->blocks.c_str());
+    }
     return 0;
   };
 }

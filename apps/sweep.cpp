@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "apps/commands.h"
+#include "apps/options.h"
 #include "bench/median.h"
 #include "ldlpgs/physics/step.h"
 
@@ -224,14 +225,30 @@ nlohmann::json to_json(const std::vector<SweepPoint>& points) {
                  {"solver", p.solver},
                  {"iterations", p.iterations},
                  {"solve_us", p.solve_us},
-                 {"error", blown ? nlohmann::json(nullptr) : nlohmann::json(p.error)},
-                 {"error_max", blown ? nlohmann::json(nullptr) : nlohmann::json(p.error_max)},
-                 {"angular_error", blown ? nlohmann::json(nullptr) : nlohmann::json(p.angular_error)},
-                 {"angular_error_max", blown ? nlohmann::json(nullptr) : nlohmann::json(p.angular_error_max)},
+                 {"position_error_m", blown ? nlohmann::json(nullptr) : nlohmann::json(p.error)},
+                 {"position_error_max_m", blown ? nlohmann::json(nullptr) : nlohmann::json(p.error_max)},
+                 {"angular_error_rad", blown ? nlohmann::json(nullptr) : nlohmann::json(p.angular_error)},
+                 {"angular_error_max_rad", blown ? nlohmann::json(nullptr) : nlohmann::json(p.angular_error_max)},
                  {"failed", p.failed()},
                  {"failure", p.failure}});
   }
   return j;
+}
+
+nlohmann::json to_json(const std::vector<Breakdown>& rows) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const Breakdown& b : rows)
+    j.push_back({{"scene", b.scene},
+                 {"solver", b.solver},
+                 {"iterations", b.iterations},
+                 {"holds_mass_ratio", b.survives > 0 ? nlohmann::json(b.survives) : nlohmann::json(nullptr)},
+                 {"breaks_mass_ratio", b.breaks > 0 ? nlohmann::json(b.breaks) : nlohmann::json(nullptr)},
+                 {"failure", b.how}});
+  return j;
+}
+
+nlohmann::json sweep_json(const std::vector<SweepPoint>& points, double seconds) {
+  return json_header("sweep", {{"simulated_s", seconds}, {"points", to_json(points)}});
 }
 
 }  // namespace ldlpgs::cli

@@ -65,6 +65,10 @@ void print_sweep_markdown(std::FILE* out, const std::vector<SweepPoint>& points)
 // it, and its time per step), and the fastest run whose error stays within 1 mm ("-": none).
 void print_sweep_summary(std::FILE* out, const std::vector<SweepPoint>& points);
 void print_stability_markdown(std::FILE* out, const std::vector<Breakdown>& rows);
+nlohmann::json to_json(const std::vector<Breakdown>& rows);
+// The points, one object each (README.md, "Command-line vocabulary").
 nlohmann::json to_json(const std::vector<SweepPoint>& points);
+// What `sweep --json` prints and `--json-file` writes: the points and the simulated time of each run.
+nlohmann::json sweep_json(const std::vector<SweepPoint>& points, double seconds);
 
 }  // namespace ldlpgs::cli

@@ -2,40 +2,15 @@
 // permutation (factor/verify.h); exit code 1 when they disagree beyond the printed tolerance.
 #include <cmath>
 #include <cstdio>
-#include <iostream>
 
 #include "apps/commands.h"
 #include "apps/compare.h"
+#include "apps/options.h"
 #include "ldlpgs/factor/verify.h"
 
 namespace ldlpgs::cli {
 
 namespace {
-
-nlohmann::json number(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
-
-nlohmann::json to_json(const Problem& p, const Verification& v) {
-  return {{"matrix", p.name},
-          {"n", p.a.n},
-          {"blocks", p.blocks.num_blocks()},
-          {"ordering", v.ordering},
-          {"nnz_L", v.nnz_L},
-          {"nnz_L_cholmod", v.nnz_L_cholmod},
-          {"flops", v.flops},
-          {"flops_cholmod", v.flops_cholmod},
-          {"L_rel_diff", number(v.L_rel_diff)},
-          {"D_rel_diff", number(v.D_rel_diff)},
-          {"x_rel_diff", number(v.x_rel_diff)},
-          {"backward_error", number(v.backward_error)},
-          {"backward_error_cholmod", number(v.backward_error_cholmod)},
-          {"status", to_string(v.info.status)},
-          {"inertia", {v.info.inertia.positive, v.info.inertia.negative, v.info.inertia.zero}},
-          {"min_pivot_ratio", v.info.min_pivot_ratio},
-          {"cholmod_status", v.cholmod_status},
-          {"condition_estimate", number(v.condition_estimate)},
-          {"tolerance", {{"factor", number(v.factor_tolerance)}, {"backward", v.tolerance.backward}}},
-          {"ok", v.ok}};
-}
 
 void print(const Problem& p, const Verification& v) {
   std::printf("%s: n = %d, %d blocks, ordering %s\n", p.name.c_str(), p.a.n, p.blocks.num_blocks(), v.ordering.c_str());
@@ -80,29 +55,26 @@ void print_verification_table(std::FILE* out, const std::vector<std::pair<std::s
 
 Command add_verify_command(CLI::App& app) {
   struct Options {
-    std::string matrix, blocks = "auto", ordering = "meca";
-    int max_block = 6;
+    ProblemArgs problem;
+    std::string ordering = "meca";
     VerifyTolerance tolerance;
     bool json = false;
   };
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("verify", "Compare the block LDL^T with CHOLMOD's on one matrix");
-  cmd->add_option("matrix", o->matrix, "Matrix Market file (symmetric), or FAMILY:CONSTRAINTS for a generated "
-                                       "mechanism with H = J W J^T values (e.g. grid:100)")->required();
-  cmd->add_option("--blocks", o->blocks, "Block partition: auto, N (uniform) or a file of block sizes")->capture_default_str();
-  cmd->add_option("--max-block", o->max_block, "Largest block --blocks auto forms")->capture_default_str();
-  cmd->add_option("--ordering", o->ordering, "Ordering name")->capture_default_str();
+  add_problem_options(cmd, &o->problem);
+  add_ordering_option(cmd, &o->ordering, "Ordering name");
   cmd->add_option("--tolerance", o->tolerance.factor, "Largest relative difference of L, D and x on a "
                   "well-conditioned matrix; on others, --per-condition times the condition estimate")->capture_default_str();
   cmd->add_option("--per-condition", o->tolerance.per_condition, "Tolerance per unit of condition number")->capture_default_str();
   cmd->add_option("--backward-tolerance", o->tolerance.backward, "Largest backward error")->capture_default_str();
-  cmd->add_flag("--json", o->json, "Print one JSON object instead of a table");
+  add_json_flag(cmd, &o->json);
   return [o] {
     const OrderingInfo& info = find_ordering(o->ordering);
-    const Problem p = load_problem(o->matrix, o->blocks, o->max_block);
+    const Problem p = load_problem(o->problem.spec, o->problem.blocks, o->problem.max_block);
     const Ordering ordering = compute_ordering(info, p.blocks, p.a);
     const Verification v = verify_against_cholmod(p.a, p.blocks, ordering, o->tolerance);
-    if (o->json) std::cout << to_json(p, v).dump(2) << '\n';
+    if (o->json) print_json(json_header("verify", to_json(p, v)));
     else print(p, v);
     return v.ok ? 0 : 1;
   };

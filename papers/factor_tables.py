@@ -40,10 +40,10 @@ def verify_table():
     problems = matrices() + [f"{f}:{m}" for f in FAMILIES for m in SIZES[:3]]
     for p in problems:
         v = run("verify", p)
-        print(f"| {v['matrix']} | {v['n']} | {v['nnz_L']} | {v['nnz_L_cholmod']} | {fmt(v['condition_estimate'], '.1e')}"
+        print(f"| {v['matrix']} | {v['n']} | {v['nnz_L']} | {v['cholmod_nnz_L']} | {fmt(v['condition_estimate'], '.1e')}"
               f" | {fmt(v['L_rel_diff'], '.1e')} | {fmt(v['D_rel_diff'], '.1e')} | {fmt(v['x_rel_diff'], '.1e')}"
               f" | {fmt(v['tolerance']['factor'], '.0e')} | {fmt(v['backward_error'], '.1e')}"
-              f" | {fmt(v['backward_error_cholmod'], '.1e')} | {'yes' if v['ok'] else '**no**'} |")
+              f" | {fmt(v['cholmod_backward_error'], '.1e')} | {'yes' if v['ok'] else '**no**'} |")
 
 
 def bench_table(problems):
@@ -52,7 +52,7 @@ def bench_table(problems):
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for p in problems:
         b = run("bench", p)
-        ours = b["ldlpgs_factor_us"] + b["ldlpgs_solve_us"]
+        ours = b["factor_us"] + b["solve_us"]
 
         def both(name):
             f, s = b[f"{name}_factor_us"], b[f"{name}_solve_us"]
@@ -66,7 +66,7 @@ def bench_table(problems):
             t = both(name)
             return "-" if t is None else f"{(t[0] + t[1]) / ours:.2f}x"
 
-        print(f"| {b['matrix']} | {b['n']} | {b['flops']:.3g} | {b['ldlpgs_factor_us']:.1f} | {b['ldlpgs_solve_us']:.1f}"
+        print(f"| {b['matrix']} | {b['n']} | {b['flops']:.3g} | {b['factor_us']:.1f} | {b['solve_us']:.1f}"
               f" | {b['gflops']:.2f} | {cell('cholmod')} | {cell('cholmod_supernodal')} | {cell('eigen_simplicial')}"
               f" | {cell('eigen_dense')} | {ratio('cholmod')} | {ratio('eigen_simplicial')} | {ratio('eigen_dense')} |")
 

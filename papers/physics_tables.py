@@ -32,10 +32,10 @@ def solvers_table():
     for scene in SCENES:
         for solver in ["pgs", "block-gs", "ldl-pgs"]:
             j = step(scene, "--solver", solver)
-            final = "blew up" if j["energy_final"] is None else f"{j['energy_final']:.4g}"
+            final = "blew up" if j["energy_final_j"] is None else f"{j['energy_final_j']:.4g}"
             print(f"| {scene} | {j['bodies']} | {j['constraints']} | {j['rows']} | {solver} |"
-                  f" {j['solve_us_median']:.1f} | {j['position_error_max']:.2e} | {j['angular_error_max']:.2e} |"
-                  f" {j['velocity_residual_max']:.2e} | {j['energy_initial']:.4g} -> {final} |")
+                  f" {j['solve_us']:.1f} | {j['position_error_max_m']:.2e} | {j['angular_error_max_rad']:.2e} |"
+                  f" {j['velocity_residual_max']:.2e} | {j['energy_initial_j']:.4g} -> {final} |")
 
 
 def compliance_table():
@@ -47,7 +47,7 @@ def compliance_table():
         for e in epsilons:
             j = step(scene, "--solver", "ldl-pgs", "--compliance", e)
             cells.append("singular" if j["failed_steps"] else
-                         f"{j['position_error_max']:.1e} / {j['angular_error_max']:.0e}")
+                         f"{j['position_error_max_m']:.1e} / {j['angular_error_max_rad']:.0e}")
         print(f"| {scene} | " + " | ".join(cells) + " |")
 
 
@@ -85,7 +85,7 @@ def timestep_table():
             out = subprocess.run([LDLPGS, "step", scene, "--no-shatter", "--steps", str(round(2 / float(dt))), "--solver", solver,
                                   "--timestep", dt, "--json"], capture_output=True, text=True)
             j = json.loads(out.stdout)
-            cells.append("blew up" if j["energy_final"] is None else f"{j['position_error_max']:.1e}")
+            cells.append("blew up" if j["energy_final_j"] is None else f"{j['position_error_max_m']:.1e}")
         print(f"| {dt} | " + " | ".join(cells) + " |")
 
 

@@ -9,9 +9,9 @@ y = the largest joint separation after the run (left) and the largest distance o
 the reference trajectory (right; our direct solver at a 16x smaller timestep, or, for a scene
 it cannot run, the second reference, MuJoCo's RK4 at that timestep), one point per engine and
 solver. A run that blew up is an 'x' above the plot's data. --table prints the markdown table
-of papers/peers.md on stdout (with the distance from the RK4 reference, rk4_trajectory_error,
+of papers/peers.md on stdout (with the distance from the RK4 reference, rk4_trajectory_error_m,
 when the files have it, and from our direct solver at the scene's own timestep,
-direct_same_step_error).
+direct_same_step_error_m).
 """
 import argparse
 import json
@@ -28,6 +28,21 @@ FLOOR = 1e-16  # an error of exactly 0 cannot be drawn on a log axis
 STYLE = {  # family -> colour; variant -> marker
     "ldlpgs": "#d62728", "ode": "#1f77b4", "bullet": "#2ca02c", "mujoco": "#9467bd"}
 MARKERS = ["o", "s", "^", "D", "v"]
+
+
+# The names of `ldlpgs peers --json` before the CLI vocabulary (README.md): runs kept from then
+# read as they would be printed now.
+OLD_NAMES = {"separation": "position_error_m", "trajectory_error": "trajectory_error_m",
+             "rk4_trajectory_error": "rk4_trajectory_error_m", "direct_same_step_error": "direct_same_step_error_m",
+             "timestep": "timestep_s", "seconds": "simulated_s", "references_apart": "references_apart_m"}
+
+
+def renamed(data):
+    def rename(d):
+        return {OLD_NAMES.get(k, k): v for k, v in d.items()}
+    data = rename(data)
+    data["engines"] = [rename(r) for r in data["engines"]]
+    return data
 
 
 def family(engine):
@@ -58,14 +73,14 @@ def draw(ax, rows, key, ylabel):
 def plot(data, path):
     rows = [r for r in data["engines"] if "skipped" not in r]
     fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
-    draw(left, rows, "separation", "largest joint separation at the end (m)")
+    draw(left, rows, "position_error_m", "largest joint separation at the end (m)")
     if data.get("reference") or not data.get("rk4_reference"):
-        draw(right, rows, "trajectory_error", "largest distance from the reference (m)")
+        draw(right, rows, "trajectory_error_m", "largest distance from the reference (m)")
     else:
-        draw(right, rows, "rk4_trajectory_error", "largest distance from MuJoCo RK4, dt / 16 (m)")
+        draw(right, rows, "rk4_trajectory_error_m", "largest distance from MuJoCo RK4, dt / 16 (m)")
     right.legend(fontsize=7, loc="best")
     fig.suptitle(f"{data['scene']}: {data['bodies']} bodies, {data['rows']} rows, "
-                 f"{data['steps']} steps of {data['timestep']} s")
+                 f"{data['steps']} steps of {data['timestep_s']} s")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -80,12 +95,12 @@ def fmt(row, key):
 
 
 def table(files):
-    keys = ["separation", "trajectory_error"]
+    keys = ["position_error_m", "trajectory_error_m"]
     heads = ["separation (m)", "trajectory (m)"]
     if any("rk4_reference" in data for data in files):  # files written since the RK4 reference
-        keys.append("rk4_trajectory_error")
+        keys.append("rk4_trajectory_error_m")
         heads.append("vs RK4 (m)")
-    keys.append("direct_same_step_error")
+    keys.append("direct_same_step_error_m")
     heads.append("vs direct (m)")
     print("| scene | engine | step (us) | " + " | ".join(heads) + " |")
     print("|---|---|---:|" + "---:|" * len(heads))
@@ -118,7 +133,7 @@ def main():
     scenes = {}
     for name in args.files:
         with open(name) as f:
-            data = json.load(f)
+            data = renamed(json.load(f))
         scenes.setdefault(data["scene"], []).append(data)
     files = [merge(runs) for runs in scenes.values()]
     for data in files:

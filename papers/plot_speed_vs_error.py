@@ -37,7 +37,7 @@ def by_case(points):
 
 def clamp_value(points):
     """Where failed runs are drawn: a decade above the largest finite error (and above 1 cm)."""
-    finite = [max(p["error"], FLOOR) for p in points if not p["failed"]]
+    finite = [max(p["position_error_m"], FLOOR) for p in points if not p["failed"]]
     return 10 * max(finite + [CENTIMETRE])
 
 
@@ -47,7 +47,7 @@ def draw_solver(ax, solver, points, clamp):
     points = sorted(points, key=lambda p: p["iterations"])
     ok = [p for p in points if not p["failed"]]
     if ok:
-        xs, ys = [p["solve_us"] for p in ok], [max(p["error"], FLOOR) for p in ok]
+        xs, ys = [p["solve_us"] for p in ok], [max(p["position_error_m"], FLOOR) for p in ok]
         ax.plot(xs, ys, color=colour, marker=marker, markersize=5, linewidth=1,
                 linestyle="none" if solver == "direct" else "-", label=solver)
         if solver != "direct":
@@ -90,7 +90,9 @@ def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__.strip().splitlines()[2])
     with open(sys.argv[1]) as f:
-        points = json.load(f)
+        data = json.load(f)
+    # `sweep --json` prints {"points": [...]}, report's data/sweep.json holds {"records": [...]}
+    points = data["points"] if "points" in data else data["records"]
     out_dir = sys.argv[2]
     os.makedirs(out_dir, exist_ok=True)
     for scene, case_points in by_case(points).items():

@@ -59,7 +59,7 @@ def summary(spy):
     bodies = "1 body" if spy["shattered_bodies"] == 1 else f"{spy['shattered_bodies']} bodies"
     shattered = (f", shattered ({bodies}, {spy['welds']} welds)"
                  if spy["shattered"] else "")
-    return (f"{spy['scene']}{shattered}: {spy['constraints']} constraints, dim(H) = {spy['dim']}, "
+    return (f"{spy['scene']}{shattered}: {spy['constraints']} constraints, dim(H) = {spy.get('n', spy.get('dim'))}, "
             f"density {100 * spy['density']:.1f}%, {spy['ordering']}: {spy['fill_blocks']} fill blocks, "
             f"{spy['flops'] / 1000:.1f}k flops")
 
@@ -96,7 +96,7 @@ def plot(spy, path):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("spy", nargs="+", help="files written by `ldlpgs spy --out`")
+    parser.add_argument("spy", nargs="+", help="files written by `ldlpgs spy --json-file`")
     parser.add_argument("--out-dir", help="directory of the PNG files (default: beside each spy file)")
     args = parser.parse_args()
     for path in args.spy:

@@ -5,11 +5,11 @@ density of H, flops of the block LDL^T and its time, and the spy plots of H and 
 Usage: python3 papers/talk_figures.py [build/bin/ldlpgs] [--figures DIR]   (prints Markdown to stdout)
 DIR (default papers/figures) receives the spy files and plots; `ldlpgs report` gives its own.
 
-For each row: `ldlpgs spy SCENE ARGS --out papers/figures/NAME.json --scene-out S.json` gives
+For each row: `ldlpgs spy SCENE ARGS --json-file papers/figures/NAME.json --scene-file S.json` gives
 the counts and the data of the plot (papers/plot_spy.py draws papers/figures/NAME.png), then
 `ldlpgs export S.json` and `ldlpgs bench M.mtx --blocks B --json` time the numeric factorization
-of that H_0 (field ldlpgs_factor_us, a median) and one solve, and `ldlpgs step S.json --solver
-direct --steps 1000 --json` the whole equality solve of a step (field solve_us_median: J, W,
+of that H_0 (field factor_us, a median) and one solve, and `ldlpgs step S.json --solver
+direct --steps 1000 --json` the whole equality solve of a step (field solve_us: J, W,
 H = J W J^T, the factorization and the solve). Run it on an idle machine.
 """
 import argparse
@@ -57,14 +57,14 @@ def measure(name, scene, args, tmp):
     """spy (and its plot), then export + bench of the mechanism it spied."""
     spy_file = os.path.join(FIGURES, f"{name}.json") if name else os.path.join(tmp, "spy.json")
     scene_file, mtx, blocks = (os.path.join(tmp, f) for f in ("scene.json", "h.mtx", "h.blocks"))
-    ldlpgs("spy", scene, *args, "--out", spy_file, "--scene-out", scene_file)
+    ldlpgs("spy", scene, *args, "--json-file", spy_file, "--scene-file", scene_file)
     with open(spy_file) as f:
         spy = json.load(f)
     if name:
         plot_spy.plot(spy, os.path.join(FIGURES, f"{name}.png"))
-    ldlpgs("export", scene_file, "--no-shatter", "--matrix", mtx, "--blocks", blocks)
+    ldlpgs("export", scene_file, "--no-shatter", "--matrix-file", mtx, "--blocks-file", blocks)
     bench = json.loads(ldlpgs("bench", mtx, "--blocks", blocks, "--json"))
-    assert bench["n"] == spy["dim"] and bench["flops"] == spy["flops"], (bench, spy["flops"])
+    assert bench["n"] == spy["n"] and bench["flops"] == spy["flops"], (bench, spy["flops"])
     step = json.loads(ldlpgs("step", scene_file, "--no-shatter", "--solver", "direct", "--steps", "1000", "--json"))
     return spy, bench, step
 
@@ -72,9 +72,9 @@ def measure(name, scene, args, tmp):
 def cells(spy, bench, step):
     """Our constraints, dim(H), density, flops, time of the numeric factorization (and of one
     solve), time of a step's equality solve."""
-    return [str(spy["constraints"]), str(spy["dim"]), f"{100 * spy['density']:.1f}%", f"{spy['flops'] / 1000:.1f}k",
-            f"{bench['ldlpgs_factor_us']:.1f} us ({bench['ldlpgs_solve_us']:.1f} us)",
-            f"{step['solve_us_median']:.1f} us"]
+    return [str(spy["constraints"]), str(spy["n"]), f"{100 * spy['density']:.1f}%", f"{spy['flops'] / 1000:.1f}k",
+            f"{bench['factor_us']:.1f} us ({bench['solve_us']:.1f} us)",
+            f"{step['solve_us']:.1f} us"]
 
 
 def command(scene, args):

@@ -1,0 +1,50 @@
+// The options and JSON conventions the subcommands share (apps/options.h).
+#include "apps/options.h"
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+#include "ldlpgs/sparse/error.h"
+#include "ldlpgs/version.h"
+
+namespace ldlpgs::cli {
+
+void add_problem_options(CLI::App* cmd, ProblemArgs* a) {
+  cmd->add_option("problem", a->spec, "Matrix Market file (symmetric), or FAMILY:CONSTRAINTS for a generated "
+                                      "mechanism with H = J W J^T values (e.g. grid:100)")->required();
+  cmd->add_option("--blocks", a->blocks, "Input block partition: auto (identical consecutive rows), N (uniform), or "
+                                         "a file with one block size per line")->capture_default_str();
+  cmd->add_option("--max-block", a->max_block, "Largest block --blocks auto forms")->capture_default_str();
+}
+
+void add_ordering_option(CLI::App* cmd, std::string* ordering, const std::string& help, bool list) {
+  cmd->add_option("--ordering", *ordering, list ? help + " (comma-separated names, or all)" : help)
+      ->capture_default_str();
+  if (list) add_alias(cmd, "--orderings", ordering);
+}
+
+void add_json_flag(CLI::App* cmd, bool* json) {
+  cmd->add_flag("--json", *json, "Print one JSON object on standard output instead of the table");
+}
+
+void add_renamed(CLI::App* cmd, const std::string& old_name, const std::string& message) {
+  cmd->add_option_function<std::string>(old_name, [message](const std::string&) { throw InputError(message); })
+      ->group("");
+}
+
+nlohmann::json json_header(const std::string& command, nlohmann::json fields) {
+  fields["ldlpgs_version"] = kVersion;
+  fields["command"] = command;
+  return fields;
+}
+
+nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+
+void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << '\n'; }
+
+void progress(const std::string& command, const std::string& what) {
+  std::fprintf(stderr, "ldlpgs %s: %s\n", command.c_str(), what.c_str());
+}
+
+}  // namespace ldlpgs::cli
