@@ -22,7 +22,7 @@ Command add_spy_command(CLI::App& app);
 Command add_sweep_command(CLI::App& app);
 Command add_peers_command(CLI::App& app);
 
-// A scene file, or a built-in scene's name (physics/scenes.h); InputError otherwise.
+// ldlpgs::load_mechanism (physics/scenes.h), printing what an MJCF conversion dropped on stderr.
 Mechanism load_mechanism(const std::string& spec);
 
 }  // namespace ldlpgs::cli

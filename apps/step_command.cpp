@@ -21,21 +21,11 @@
 namespace ldlpgs::cli {
 
 Mechanism load_mechanism(const std::string& spec) {
-  // An MJCF model (physics/mjcf.h) by its extension, even if missing: MuJoCo names the problem.
-  if (is_mjcf_path(spec)) {
-    MjcfDropped dropped;
-    Mechanism m = load_mjcf(spec, &dropped);
-    const std::string line = describe(dropped);
-    if (!line.empty()) std::fprintf(stderr, "%s: %s\n", spec.c_str(), line.c_str());
-    return m;
-  }
-  if (std::filesystem::exists(spec)) return load_scene(spec);
-  Mechanism m;
-  if (builtin_scene(spec, &m)) return m;
-  std::string known;
-  for (const std::string& name : builtin_scene_names()) known += " " + name;
-  throw InputError(spec + ": no such file and no built-in scene of that name (built-in:" + known +
-                   "; chain-N and heavy-chain-N-R take any N and R)");
+  MjcfDropped dropped;
+  Mechanism m = ldlpgs::load_mechanism(spec, &dropped);
+  // What an MJCF conversion left out, on stderr (empty for scene files and built-ins).
+  if (const std::string line = describe(dropped); !line.empty()) std::fprintf(stderr, "%s: %s\n", spec.c_str(), line.c_str());
+  return m;
 }
 
 namespace {

@@ -3,7 +3,7 @@
 it with SciPy, prints nnz(L), flops, block fill and block flops per ordering (what `ldlpgs order`
 prints) and saves a bar chart of the flops per ordering.
 
-    PYTHONPATH=build/python python3 examples/compare_orderings.py tests/data/matrices/bcsstk13.mtx --out flops.png
+    PYTHONPATH=build/python python3 examples/compare_orderings.py tests/data/matrices/bcsstk13.mtx --plot-file flops.png
 """
 import argparse
 import pathlib
@@ -24,7 +24,7 @@ def main():
     parser.add_argument("matrix", nargs="?", default=str(DEFAULT), help="Matrix Market file (symmetric)")
     parser.add_argument("--blocks", default="auto", help="auto, a block size, or a partition file")
     parser.add_argument("--orderings", default="all", help="comma-separated ordering names, or all")
-    parser.add_argument("--out", default="orderings_flops.png", help="the bar chart (PNG)")
+    parser.add_argument("--plot-file", default="orderings_flops.png", help="the bar chart (PNG)")
     args = parser.parse_args()
 
     a = scipy.io.mmread(args.matrix)
@@ -37,7 +37,7 @@ def main():
     for name, r in results.items():
         fill = dash if r["block_fill_edges"] is None else r["block_fill_edges"]
         block_flops = dash if r["block_flops"] is None else f"{r['block_flops']:.0f}"
-        print(f"{name:<13} {r['nnz_L']:>10} {r['flops']:>12.0f} {fill:>11} {block_flops:>12} {r['time_ms']:>8.2f}")
+        print(f"{name:<13} {r['nnz_L']:>10} {r['flops']:>12.0f} {fill:>11} {block_flops:>12} {r['ordering_ms']:>8.2f}")
 
     # Scalar flops (as CHOLMOD counts them) for every ordering; the best one stands out.
     names = list(results)
@@ -50,8 +50,8 @@ def main():
     ax.set_title(f"{pathlib.Path(args.matrix).name}: flops per ordering")
     ax.tick_params(axis="x", rotation=30)
     fig.tight_layout()
-    fig.savefig(args.out, dpi=100)
-    print(f"wrote {args.out}")
+    fig.savefig(args.plot_file, dpi=100)
+    print(f"wrote {args.plot_file}")
 
 
 if __name__ == "__main__":

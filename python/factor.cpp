@@ -14,6 +14,7 @@
 #include "ldlpgs/factor/verify.h"
 #include "ldlpgs/ordering/metrics.h"
 #include "ldlpgs/ordering/ordering.h"
+#include "ldlpgs/version.h"
 #include "ldlpgs/sparse/cholmod_adapter.h"
 #include "ldlpgs/sparse/eigen_adapter.h"
 #include "ldlpgs/sparse/error.h"
@@ -140,11 +141,11 @@ void bind_factor(py::module_& m) {
           r["flops"] = s.flops;
           r["block_fill_edges"] = s.block ? py::object(py::int_(s.block->fill_edges)) : py::object(py::none());
           r["block_flops"] = s.block ? py::object(py::float_(s.block->flops)) : py::object(py::none());
-          r["time_ms"] = s.time_ms;
+          r["ordering_ms"] = s.time_ms;
           if (cm) {
             const CholmodCounts c = cholmod_counts(a, o.perm, *cm);
-            r["nnz_L_cholmod"] = static_cast<int64_t>(c.lnz);
-            r["flops_cholmod"] = c.fl;
+            r["cholmod_nnz_L"] = static_cast<int64_t>(c.lnz);
+            r["cholmod_flops"] = c.fl;
           }
           out[py::str(name)] = r;
         }
@@ -155,8 +156,9 @@ void bind_factor(py::module_& m) {
       (std::string("Every requested ordering on A's block graph (what `ldlpgs order --json` prints): a dict from "
                    "ordering name to a dict with perm (the scalar pivot order, perm[k] = row eliminated k-th), "
                    "nnz_L and flops (scalar, as CHOLMOD counts them), block_fill_edges and block_flops (None for "
-                   "the -scalar orderings, which may split blocks) and time_ms; with cholmod=True also "
-                   "nnz_L_cholmod and flops_cholmod, CHOLMOD's counts for the same permutation.\n"
+                   "the -scalar orderings, which may split blocks) and ordering_ms; with cholmod=True also "
+                   "cholmod_nnz_L and cholmod_flops, CHOLMOD's counts for the same permutation (the names of "
+                   "the README's vocabulary).\n"
                    "orderings: \"all\", comma-separated names, or a sequence of names (see orderings()).\n") +
        kMatrixDoc)
           .c_str());
@@ -280,21 +282,27 @@ void bind_factor(py::module_& m) {
         // The fields of `ldlpgs verify --json` (apps/verify_command.cpp, where the program builds its
         // JSON: not in the library); tests/test_factor.py compares the keys with the program's.
         py::dict d;
+        d["ldlpgs_version"] = kVersion;
+        d["command"] = "verify";
         d["matrix"] = name;
         d["n"] = a.n;
         d["blocks"] = bp.num_blocks();
         d["ordering"] = v.ordering;
         d["nnz_L"] = v.nnz_L;
-        d["nnz_L_cholmod"] = v.nnz_L_cholmod;
+        d["cholmod_nnz_L"] = v.nnz_L_cholmod;
         d["flops"] = v.flops;
-        d["flops_cholmod"] = v.flops_cholmod;
+        d["cholmod_flops"] = v.flops_cholmod;
         d["L_rel_diff"] = number(v.L_rel_diff);
         d["D_rel_diff"] = number(v.D_rel_diff);
         d["x_rel_diff"] = number(v.x_rel_diff);
         d["backward_error"] = number(v.backward_error);
-        d["backward_error_cholmod"] = number(v.backward_error_cholmod);
+        d["cholmod_backward_error"] = number(v.backward_error_cholmod);
         d["status"] = to_string(v.info.status);
-        d["inertia"] = py::make_tuple(v.info.inertia.positive, v.info.inertia.negative, v.info.inertia.zero);
+        py::dict inertia;
+        inertia["positive"] = v.info.inertia.positive;
+        inertia["negative"] = v.info.inertia.negative;
+        inertia["zero"] = v.info.inertia.zero;
+        d["inertia"] = inertia;
         d["min_pivot_ratio"] = v.info.min_pivot_ratio;
         d["cholmod_status"] = v.cholmod_status;
         d["condition_estimate"] = number(v.condition_estimate);

@@ -91,7 +91,7 @@ def test_bad_b_kind():
 
 
 def test_unknown_ordering():
-    cli = run("order", MATRICES / "bcsstk01.mtx", "--orderings", "nope", expect=2).stderr.strip()
+    cli = run("order", MATRICES / "bcsstk01.mtx", "--ordering", "nope", expect=2).stderr.strip()
     for call in (lambda: ldlpgs.order(A, orderings="meca,nope"), lambda: ldlpgs.order(A, orderings=["nope"]),
                  lambda: ldlpgs.analyze(A, ordering="nope"), lambda: ldlpgs.verify(A, ordering="nope"),
                  lambda: ldlpgs.Simulation("chain-10", ordering="nope")):

@@ -13,7 +13,7 @@ def test_compare_orderings_example(tmp_path):
     pytest.importorskip("matplotlib", reason="python3-matplotlib is not installed (the example draws with it)")
     out = tmp_path / "flops.png"
     p = subprocess.run([sys.executable, str(SOURCE / "examples" / "compare_orderings.py"), str(MATRICES / "can___24.mtx"),
-                        "--out", str(out)], capture_output=True, text=True, env=dict(os.environ, MPLBACKEND="Agg"))
+                        "--plot-file", str(out)], capture_output=True, text=True, env=dict(os.environ, MPLBACKEND="Agg"))
     assert p.returncode == 0, p.stderr
     for name in ldlpgs.orderings():
         assert f"\n{name} " in p.stdout

@@ -1,4 +1,4 @@
-# ldlpgs.Simulation against `ldlpgs step SCENE --no-shatter --trace --json`: the same final
+# ldlpgs.Simulation against `ldlpgs step SCENE --no-shatter --trace-file --json`: the same final
 # positions and orientations of every body (the module does not shatter), the same largest
 # constraint error; and the state arrays' shapes, setters and per-row errors.
 import csv
@@ -17,7 +17,7 @@ STEPS = 40
 
 def program_final_pose(scene, tmp_path, *options):
     trace = tmp_path / "trace.csv"
-    summary = run_json("step", scene, "--steps", STEPS, "--no-shatter", "--trace", trace, *options)
+    summary = run_json("step", scene, "--steps", STEPS, "--no-shatter", "--trace-file", trace, *options)
     with open(trace) as f:
         rows = [r for r in csv.DictReader(f) if int(r["step"]) == STEPS]
     positions = {r["body"]: [float(r[k]) for k in ("x", "y", "z")] for r in rows}
@@ -39,9 +39,9 @@ def test_trajectory_matches_program(scene, solver, tmp_path):
     for i, body in enumerate(sim.body_names):
         np.testing.assert_allclose(sim.positions[i], positions[body], rtol=1e-12, atol=1e-12)
         np.testing.assert_allclose(sim.orientations[i], orientations[body], rtol=1e-12, atol=1e-12)
-    assert report["position_error_max"] == pytest.approx(summary["position_error_max"], rel=1e-9, abs=1e-15)
-    assert report["angular_error_max"] == pytest.approx(summary["angular_error_max"], rel=1e-9, abs=1e-15)
-    assert sim.energy == pytest.approx(summary["energy_final"], rel=1e-9)
+    assert report["position_error_max_m"] == pytest.approx(summary["position_error_max_m"], rel=1e-9, abs=1e-15)
+    assert report["angular_error_max_rad"] == pytest.approx(summary["angular_error_max_rad"], rel=1e-9, abs=1e-15)
+    assert sim.energy == pytest.approx(summary["energy_final_j"], rel=1e-9)
 
 
 def test_scene_file_dict_and_options(tmp_path):
