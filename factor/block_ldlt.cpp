@@ -19,10 +19,10 @@ SymmetricCsc lower_triangle(const Eigen::SparseMatrix<double>& a, const char* wh
   return from_eigen(a);
 }
 
-Ordering order(std::string_view name, const SymmetricCsc& a, const std::string& blocks, int max_block,
+Ordering order(std::string_view name, const SymmetricCsc& a, const std::vector<int>& block_sizes,
                BlockPattern* pattern_out = nullptr) {
   const OrderingInfo& info = find_ordering(name);
-  BlockPattern pattern = BlockPattern::from_scalar(a, parse_partition(blocks, a, max_block));
+  BlockPattern pattern = BlockPattern::from_scalar(a, block_sizes);
   Ordering o = compute_ordering(info, pattern, a);
   if (pattern_out) *pattern_out = std::move(pattern);
   return o;
@@ -32,13 +32,21 @@ Ordering order(std::string_view name, const SymmetricCsc& a, const std::string& 
 
 Ordering compute_ordering(std::string_view name, const Eigen::SparseMatrix<double>& a, const std::string& blocks,
                           int max_block) {
-  return order(name, lower_triangle(a, "compute_ordering"), blocks, max_block);
+  const SymmetricCsc lower = lower_triangle(a, "compute_ordering");
+  return order(name, lower, parse_partition(blocks, lower, max_block));
+}
+
+Ordering compute_ordering(std::string_view name, const Eigen::SparseMatrix<double>& a,
+                          const std::vector<int>& block_sizes) {
+  return order(name, lower_triangle(a, "compute_ordering"), block_sizes);
 }
 
 BlockLDLT& BlockLDLT::analyzePattern(const MatrixType& a) {
   const SymmetricCsc lower = lower_triangle(a, "analyzePattern");
   BlockPattern pattern;
-  ordering_ = order(options_.ordering, lower, options_.blocks, options_.max_block, &pattern);
+  const std::vector<int> sizes = options_.block_sizes.empty() ? parse_partition(options_.blocks, lower, options_.max_block)
+                                                              : options_.block_sizes;
+  ordering_ = order(options_.ordering, lower, sizes, &pattern);
   numeric_.reset();  // it points into the symbolic object replaced here
   symbolic_ = std::make_unique<Symbolic>(Symbolic::analyze(lower, pattern, ordering_));
   numeric_ = std::make_unique<Numeric>(*symbolic_);

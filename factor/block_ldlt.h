@@ -21,6 +21,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "ldlpgs/factor/numeric.h"
 #include "ldlpgs/factor/symbolic.h"
@@ -30,6 +31,7 @@ namespace ldlpgs {
 
 struct BlockLDLTOptions {
   std::string blocks = "auto";    // "auto" (identical consecutive rows), N (uniform), or a file of block sizes
+  std::vector<int> block_sizes{}; // the partition itself, in row order (if given, `blocks` is not read)
   int max_block = 6;              // the largest block "auto" forms
   std::string ordering = "meca";  // a name of orderings() (ordering/ordering.h)
   FactorOptions factor{};         // regularization eps diag(H), zero-pivot threshold
@@ -39,6 +41,9 @@ struct BlockLDLTOptions {
 // BlockLDLTOptions::blocks says.
 Ordering compute_ordering(std::string_view name, const Eigen::SparseMatrix<double>& a,
                           const std::string& blocks = "auto", int max_block = 6);
+// ... or into the given block sizes (row order; they must cover the rows: ArgumentError).
+Ordering compute_ordering(std::string_view name, const Eigen::SparseMatrix<double>& a,
+                          const std::vector<int>& block_sizes);
 
 class BlockLDLT {
  public:

@@ -125,6 +125,14 @@ TEST(BlockLDLT, ComputeIsAnalyzePatternThenFactorizeAndFactorizeReusesTheAnalysi
   EXPECT_LE((full * solver.solve(b) - b).lpNorm<Eigen::Infinity>(), 1e-10);
 }
 
+TEST(BlockLDLT, GivenBlockSizesAreThePartition) {
+  const SymmetricCsc& a = matrix("bcsstk01.mtx");  // 48 rows: 16 blocks of 3
+  BlockLDLT solver(to_eigen(a, Triangle::lower), {.block_sizes = std::vector<int>(16, 3)});
+  ASSERT_EQ(solver.info(), Eigen::Success);
+  EXPECT_EQ(solver.symbolic().num_pivots(), 16);
+  EXPECT_EQ(solver.symbolic().max_size(), 3);
+}
+
 TEST(BlockLDLT, UpperEntriesAreIgnoredAsEigenDoes) {
   const SymmetricCsc& a = matrix("bcsstk01.mtx");
   BlockLDLT lower(to_eigen(a, Triangle::lower)), full(to_eigen(a, Triangle::full));
@@ -205,6 +213,9 @@ TEST(BlockLDLTMisuse, PartitionThatDoesNotCoverTheRowsThrows) {
   EXPECT_THROW(solver.analyzePattern(small()), InputError);
   BlockLDLT zero({.blocks = "0"});
   EXPECT_THROW(zero.analyzePattern(small()), InputError);
+  BlockLDLT sizes({.block_sizes = {2, 2}});  // 4 rows of 3
+  EXPECT_THROW(sizes.analyzePattern(small()), ArgumentError);
+  EXPECT_THROW(compute_ordering("meca", small(), std::vector<int>{1, 1}), ArgumentError);
 }
 
 }  // namespace
