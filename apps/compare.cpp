@@ -19,6 +19,8 @@ Problem load_matrix(const std::string& path, const std::string& blocks_spec, int
   Problem p;
   p.name = std::filesystem::path(path).filename().string();
   p.a = read_matrix_market(path);
+  // (CHOLMOD refuses n = 0, and there is nothing to order, factor or time.)
+  if (p.a.n == 0) throw InputError(path + ": a 0 x 0 matrix: nothing to order or factor");
   p.blocks = BlockPattern::from_scalar(p.a, parse_partition(blocks_spec, p.a, max_block));
   p.scalar_graph = graph_of(p.a);
   return p;

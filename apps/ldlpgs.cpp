@@ -1,15 +1,22 @@
 // ldlpgs: the command-line program. Subcommands: order, report, verify, bench, step, export, spy, sweep, peers (ldlpgs SUBCOMMAND --help).
 // Bad input ends with a one-line message naming the file, line and problem, and exit code 2; the
 // options every subcommand shares, and their names, are in apps/options.h (README.md,
-// "Command-line vocabulary").
+// "Command-line vocabulary"). The last line of defence (issue 14): no exception ends in
+// std::terminate. Running out of memory is exit 2 naming the input, as bad input is (a size line
+// or a family size too large for this machine); any other exception is a bug of ours, exit 3,
+// its message printed as one bounded line.
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <new>
+#include <stdexcept>
+#include <string>
 #include <sstream>
 #include <string_view>
 
 #include "apps/commands.h"
 #include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/limits.h"
 #include "ldlpgs/version.h"
 
 namespace {
@@ -110,6 +117,8 @@ int extras_error(const CLI::App& app, const std::string& what, int argc, char** 
 int main(int argc, char** argv) {
   CLI::App app{"ldlpgs: block-sparse LDL^T with graph-elimination orderings, for mechanisms"};
   app.set_version_flag("--version", std::string("ldlpgs ") + ldlpgs::kVersion);
+  app.add_flag_callback("--no-size-limits", [] { ldlpgs::size_limits() = ldlpgs::SizeLimits::none(); },
+                        "Lift the caps on declared sizes (sparse/limits.h: 2^24 rows, 2^28 entries, 2^22 constraints)");
   app.require_subcommand(0, 1);
   std::map<CLI::App*, ldlpgs::cli::Command> commands;
   auto add = [&](ldlpgs::cli::Command (*make)(CLI::App&)) {
@@ -145,11 +154,25 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (app.get_subcommands().empty()) return usage_error(app, "no subcommand given");
+  std::string input;  // the command's arguments, to name what was too large
+  for (int k = 1; k < argc; ++k) (input += k > 1 ? " " : "") += argv[k];
   try {
     for (CLI::App* sub : app.get_subcommands()) return commands.at(sub)();
   } catch (const ldlpgs::InputError& e) {
-    std::fprintf(stderr, "ldlpgs: %s\n", e.what());
+    std::fprintf(stderr, "ldlpgs: %s\n", ldlpgs::printable(e.what(), 400).c_str());
     return 2;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "ldlpgs: out of memory on '%s': the input is too large for this machine\n",
+                 ldlpgs::printable(input, 200).c_str());
+    return 2;
+  } catch (const std::length_error& e) {  // a size beyond what a container can hold
+    std::fprintf(stderr, "ldlpgs: '%s' asks for more than can be allocated (%s)\n", ldlpgs::printable(input, 200).c_str(),
+                 ldlpgs::printable(e.what(), 100).c_str());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ldlpgs: internal error (please report it) on '%s': %s\n", ldlpgs::printable(input, 200).c_str(),
+                 ldlpgs::printable(e.what(), 300).c_str());
+    return 3;
   }
   return 2;
 }

@@ -33,6 +33,8 @@
 #include <sstream>
 #include <string_view>
 #include <unordered_map>
+#include <utility>
+#include <vector>
 
 #include "ldlpgs/sparse/error.h"
 
@@ -62,19 +64,51 @@ std::string format_vector(std::span<const double> v) {
   return s;
 }
 
-// A JSON value as it appears in a message: one line, cut short if long.
-std::string describe(const json& v) {
-  std::string s = v.dump(-1, ' ', false, json::error_handler_t::replace);
-  if (s.size() > 60) {
-    s.resize(57);
-    s += "...";
-  }
-  return s;
-}
-
 // A name in quotes, escaped as JSON: one line whatever it holds (invalid UTF-8 replaced).
 std::string in_quotes(std::string_view s) {
   return json(std::string(s)).dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+// A JSON value as it appears in a message: one line, at most 60 characters, cut with "...".
+// Written with an explicit stack and a budget, not nlohmann's dump, which recurses on the depth
+// and prints everything: a 8 KB scene of 4000 nested arrays overflowed the stack in this error
+// path (issue 14).
+std::string describe(const json& v) {
+  constexpr size_t kMax = 60;
+  std::string s;
+  std::vector<std::pair<const json*, json::const_iterator>> open;  // containers being written
+  auto write = [&](const json& x) {
+    if (x.is_array() || x.is_object()) {
+      s += x.is_array() ? "[" : "{";
+      open.emplace_back(&x, x.cbegin());
+    } else if (x.is_string()) {
+      s += in_quotes(std::string_view(x.get_ref<const std::string&>()).substr(0, kMax));
+    } else {
+      s += x.dump(-1, ' ', false, json::error_handler_t::replace);  // a scalar: short
+    }
+  };
+  write(v);
+  while (!open.empty() && s.size() <= kMax) {
+    const json* container = open.back().first;
+    const json::const_iterator it = open.back().second;
+    if (it == container->cend()) {
+      s += container->is_array() ? "]" : "}";
+      open.pop_back();
+      continue;
+    }
+    if (it != container->cbegin()) s += ",";  // compact, as nlohmann's dump(-1) writes it
+    if (container->is_object()) {
+      s += in_quotes(it.key());
+      s += ":";
+    }
+    ++open.back().second;
+    write(*it);
+  }
+  if (s.size() > kMax) {
+    s.resize(kMax - 3);
+    s += "...";
+  }
+  return s;
 }
 
 // Concatenation by appending (GCC 12 warns falsely on "literal" + std::string, DEVELOPERS.md).
@@ -433,10 +467,11 @@ Mechanism load_scene(const std::string& path) {
   } catch (const json::parse_error& e) {
     // e.byte: 1-based offset of the character the parser stopped at.
     // nlohmann's text is "[json.exception.parse_error.101] parse error at line L, column C: what"
+    // (its "last read: '...'" quotes the input: a 1 MB token made a 1 MB message)
     std::string what = e.what();
     const size_t colon = what.find(": ", what.find("parse error"));
     if (colon != std::string::npos) what = what.substr(colon + 2);
-    throw InputError(cat(where(e.byte == 0 ? 0 : e.byte - 1), ": invalid JSON: ", what));
+    throw InputError(cat(where(e.byte == 0 ? 0 : e.byte - 1), ": invalid JSON: ", printable(what, 200)));
   } catch (const json::out_of_range& e) {
     // 406: a number beyond the range of a double ("number overflow parsing '1e400'"), which
     // carries no position: the number's first occurrence in the text gives it
@@ -444,11 +479,11 @@ Mechanism load_scene(const std::string& path) {
     const size_t open = what.find("parsing '"), close = what.rfind('\'');
     if (e.id == 406 && open != std::string::npos && close > open + 9) {
       const std::string number = what.substr(open + 9, close - open - 9);
-      throw InputError(cat(where(text.find(number)), ": number ", number, " is out of the range of a double"));
+      throw InputError(cat(where(text.find(number)), ": number ", printable(number, 40), " is out of the range of a double"));
     }
-    throw InputError(cat(path, ": invalid JSON: ", what));
+    throw InputError(cat(path, ": invalid JSON: ", printable(what, 200)));
   } catch (const json::exception& e) {
-    throw InputError(cat(path, ": invalid JSON: ", e.what()));
+    throw InputError(cat(path, ": invalid JSON: ", printable(e.what(), 200)));
   }
   return parse_scene(scene, path);
 }

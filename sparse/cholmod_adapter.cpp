@@ -18,9 +18,14 @@ cholmod_sparse cholmod_view(const SymmetricCsc& a) {
   s.nrow = s.ncol = static_cast<size_t>(a.n);
   s.nzmax = static_cast<size_t>(a.nnz());
   // CHOLMOD's struct has no const members; it only reads through these when given as input.
-  s.p = const_cast<int*>(a.col_ptr.data());
-  s.i = const_cast<int*>(a.row_idx.data());
-  s.x = const_cast<double*>(a.values.data());
+  // A matrix without stored entries has empty vectors, whose data() may be null, and CHOLMOD
+  // refuses a null i or x as an invalid xtype (status -4: verify, bench and order --cholmod
+  // aborted on a 0 x 0 or all-empty matrix, issue 14): point them at a never-read dummy.
+  static int no_index = 0;
+  static double no_value = 0;
+  s.p = const_cast<int*>(a.col_ptr.empty() ? &no_index : a.col_ptr.data());
+  s.i = a.row_idx.empty() ? &no_index : const_cast<int*>(a.row_idx.data());
+  s.x = a.values.empty() ? &no_value : const_cast<double*>(a.values.data());
   s.stype = -1;
   s.itype = CHOLMOD_INT;
   s.xtype = CHOLMOD_REAL;
@@ -144,6 +149,7 @@ cholmod_factor* analyze_given(cholmod_sparse& view, std::span<const int> perm, c
 CholmodCounts cholmod_counts(const SymmetricCsc& a, std::span<const int> perm, Cholmod& cm) {
   check_symmetric_csc(a, "cholmod_counts");
   check_permutation(perm, a.n, "cholmod_counts");
+  if (a.n == 0) return {0, 0};  // CHOLMOD's analysis refuses n = 0 (status -4)
   cholmod_common* c = cm.common();
   const GivenOrderLdl settings(c);
   cholmod_sparse view = cholmod_view(a);
@@ -160,6 +166,7 @@ CholmodLdl cholmod_ldl(const SymmetricCsc& a, std::span<const int> perm, std::sp
   if (!b.empty() && std::ssize(b) != a.n)
     throw ArgumentError("cholmod_ldl: right-hand side of " + std::to_string(b.size()) + " entries for " +
                         std::to_string(a.n) + " rows");
+  if (a.n == 0) return {SymmetricCsc{0, {0}, {}, {}}, {}, CHOLMOD_OK, 0};  // CHOLMOD refuses n = 0
   cholmod_common* c = cm.common();
   const GivenOrderLdl settings(c);
   cholmod_sparse view = cholmod_view(a);

@@ -46,10 +46,11 @@ void check_permutation(std::span<const int> perm, int n, const char* what) {
 }
 
 SymmetricCsc csc_from_triplets(int n, std::span<const Triplet> entries) {
+  if (n < 0) throw ArgumentError("csc_from_triplets: negative dimension " + std::to_string(n));
   SymmetricCsc a;
   a.n = n;
   // Counting sort by column, then sort each column by row and sum duplicates.
-  std::vector<int> count(n + 1, 0);
+  std::vector<int> count(static_cast<size_t>(n) + 1, 0);  // (size_t: n may be INT_MAX, issue 14)
   for (const Triplet& t : entries) {
     if (t.row < 0 || t.row >= n || t.col < 0 || t.col >= n)
       throw ArgumentError("triplet (" + std::to_string(t.row) + ", " + std::to_string(t.col) + ") outside 0.." +
@@ -62,7 +63,7 @@ SymmetricCsc csc_from_triplets(int n, std::span<const Triplet> entries) {
   for (const Triplet& t : entries) {
     slots[next[std::min(t.row, t.col)]++] = {std::max(t.row, t.col), t.value};
   }
-  a.col_ptr.assign(n + 1, 0);
+  a.col_ptr.assign(static_cast<size_t>(n) + 1, 0);
   a.row_idx.reserve(entries.size());
   a.values.reserve(entries.size());
   for (int j = 0; j < n; ++j) {
@@ -84,7 +85,7 @@ SymmetricCsc csc_from_triplets(int n, std::span<const Triplet> entries) {
 Graph graph_from_edges(int n, std::span<const std::pair<int, int>> edges) {
   Graph g;
   g.n = n;
-  g.ptr.assign(n + 1, 0);
+  g.ptr.assign(static_cast<size_t>(n) + 1, 0);
   for (auto [u, v] : edges) {
     if (u == v || u < 0 || v < 0 || u >= n || v >= n)
       throw ArgumentError("graph: edge (" + std::to_string(u) + ", " + std::to_string(v) + ") is a loop or outside 0.." +
@@ -101,7 +102,7 @@ Graph graph_from_edges(int n, std::span<const std::pair<int, int>> edges) {
   }
   // Sort each list and drop duplicates, compacting in place.
   g.adj.reserve(adj.size());
-  std::vector<int> ptr(n + 1, 0);
+  std::vector<int> ptr(static_cast<size_t>(n) + 1, 0);
   for (int v = 0; v < n; ++v) {
     auto first = adj.begin() + g.ptr[v], last = adj.begin() + g.ptr[v + 1];
     std::sort(first, last);

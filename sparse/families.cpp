@@ -6,6 +6,7 @@
 #include <random>
 
 #include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/limits.h"
 
 namespace ldlpgs {
 
@@ -62,6 +63,7 @@ std::span<const std::string_view> family_names() { return kFamilies; }
 
 BodyGraph make_family(std::string_view family, int m, uint32_t seed) {
   if (m < 1) throw InputError("mechanism family '" + std::string(family) + "': needs at least 1 constraint");
+  check_limit("mechanism family '" + std::string(family) + "'", m, size_limits().constraints, "constraints");
   Builder b(seed);
   const int ground = b.body(true);
   if (family == "chain") {

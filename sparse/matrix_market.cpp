@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/limits.h"
 
 namespace ldlpgs {
 namespace {
@@ -99,10 +100,9 @@ std::string lower(std::string_view s) {
 // Quoted for messages, cut short so that a binary file cannot produce a huge message.
 // (Appending rather than "'" + string: GCC 12 at -O3 warns falsely on the latter, bug 105329.)
 std::string quoted(std::string_view s) {
-  constexpr size_t kMax = 40;
   std::string out = "'";
-  out += s.substr(0, kMax);
-  out += s.size() > kMax ? "...'" : "'";
+  out += printable(s, 40);
+  out += "'";
   return out;
 }
 
@@ -315,6 +315,8 @@ SymmetricCsc read_matrix_market(const std::string& path) {
   }
   constexpr int64_t kIntMax = std::numeric_limits<int>::max();
   if (rows > kIntMax) fail(path, size_line, std::to_string(rows) + " rows is too many");
+  check_limit(path + ":" + std::to_string(size_line), rows, size_limits().rows, "rows");
+  check_limit(path + ":" + std::to_string(size_line), nnz, size_limits().entries, "entries");
   const int n = static_cast<int>(rows);
   // More entries than positions means a duplicate for sure; checking here also keeps a corrupt
   // size line from making us reserve absurd memory.

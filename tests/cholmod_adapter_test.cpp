@@ -510,5 +510,26 @@ TEST(CholmodLdl, IgnoresAndRestoresCommonSettings) {
   EXPECT_EQ(c->method[0].ordering, CHOLMOD_AMD);
 }
 
+// Matrices without stored entries (issue 14, class 1): their empty arrays gave CHOLMOD null
+// pointers (status -4, "invalid xtype") and n = 0 its analysis refuses; now the counts are the
+// diagonal's (the analytic answer: L = I, one flop per column) and the LDL^T of an empty
+// diagonal stops at its first column.
+TEST(CholmodAdapter, MatricesWithoutEntries) {
+  Cholmod cm;
+  const SymmetricCsc none = csc_from_triplets(0, std::vector<Triplet>{});
+  const CholmodCounts zero = cholmod_counts(none, std::vector<int>{}, cm);
+  EXPECT_EQ(zero.lnz, 0);
+  EXPECT_EQ(zero.fl, 0);
+  EXPECT_EQ(cholmod_ldl(none, std::vector<int>{}, std::vector<double>{}, cm).l.n, 0);
+
+  const SymmetricCsc empty = csc_from_triplets(5, std::vector<Triplet>{});
+  const std::vector<int> perm{0, 1, 2, 3, 4};
+  const CholmodCounts counts = cholmod_counts(empty, perm, cm);
+  EXPECT_EQ(counts.lnz, 5);
+  EXPECT_EQ(counts.fl, 5);
+  const CholmodLdl ldl = cholmod_ldl(empty, perm, std::vector<double>(5, 1.0), cm);
+  EXPECT_NE(ldl.status, CHOLMOD_OK);  // D = 0: not positive definite
+  EXPECT_TRUE(ldl.x.empty());
+}
 }  // namespace
 }  // namespace ldlpgs

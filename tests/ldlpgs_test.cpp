@@ -929,5 +929,52 @@ TEST(LdlpgsVocabulary, BenchOnALargeMatrixPrintsProgress) {
 
 }  // namespace vocabulary_test
 
+// Robustness (issue 14), one test per class of finding. Each failed on the main of 0c33819.
+
+// Class 1: matrices without stored entries aborted in CHOLMOD (terminate, status -4).
+TEST(LdlpgsRobust, MatricesWithoutEntriesDoNotAbort) {
+  const std::string empty0 = temp_file("empty0.mtx", "%%MatrixMarket matrix coordinate real symmetric\n0 0 0\n");
+  const std::string empty5 = temp_file("empty5.mtx", "%%MatrixMarket matrix coordinate real symmetric\n5 5 0\n");
+  for (const char* command : {"verify", "bench", "order --cholmod"}) {
+    expect_input_error(std::string(command) + " " + empty0, {empty0, "0 x 0"});
+    // All zero: singular, so verify and bench report it (exit 1 or 0), never abort.
+    const Result r = run(std::string(command) + " " + empty5);
+    EXPECT_TRUE(r.code == 0 || r.code == 1) << command << ": exit " << r.code << "\n" << r.err;
+    EXPECT_EQ(r.err.find("terminate"), std::string::npos) << r.err;
+  }
+}
+
+// Class 3: a size line declaring 2^31 - 1 rows overflowed n + 1 and ended in length_error; 30M
+// rows took 1.6 GB; a family size of 2e9 ended in bad_alloc. Now refused before allocating.
+TEST(LdlpgsRobust, DeclaredSizesBeyondTheLimitsAreRefusedBeforeAllocating) {
+  const std::string huge = temp_file("huge.mtx", "%%MatrixMarket matrix coordinate real symmetric\n2147483647 2147483647 1\n1 1 1\n");
+  const std::string big = temp_file("big.mtx", "%%MatrixMarket matrix coordinate real symmetric\n30000000 30000000 1\n1 1 1\n");
+  for (const char* command : {"order", "verify"}) {
+    expect_input_error(std::string(command) + " " + huge, {huge + ":2", "rows", "limit", "--no-size-limits"});
+    expect_input_error(std::string(command) + " " + big, {big + ":2", "30000000 rows"});
+  }
+  expect_input_error("verify chain:2000000000", {"chain", "2000000000 constraints", "limit"});
+  // The global flag is accepted (matrix_market_test checks that lifted limits read the file).
+  EXPECT_EQ(run("--no-size-limits order " + kMatrices + "/can___24.mtx --ordering natural").code, 0);
+}
+
+// Class 8: a JSON syntax error echoed the whole token (a 1 MB line, a 1 MB message) and raw
+// control bytes; a NUL inside a matrix entry cut the message short.
+TEST(LdlpgsRobust, MessagesAreOneBoundedPrintableLine) {
+  std::string token(1 << 20, 'x');
+  token[5] = '\x01';
+  const std::string json = temp_file("long.json", "{\"name\": \"" + token);  // unterminated string
+  Result r = run("step " + json);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
+  EXPECT_LT(r.err.size(), 600u) << r.err.substr(0, 600);
+  for (char c : r.err.substr(0, r.err.size() - 1)) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "byte " << int(c);
+
+  static const char kNul[] = "%%MatrixMarket matrix coordinate real symmetric\n2 2 2\n1 1 1\0x\n2 2 1\n";
+  const std::string nul = temp_file("nul.mtx", std::string(kNul, sizeof(kNul) - 1));
+  r = run("order " + nul);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("\\x00"), std::string::npos) << r.err;  // escaped, and the message goes on after it
+}
 }  // namespace
 }  // namespace ldlpgs

@@ -16,6 +16,7 @@
 
 #include "ldlpgs/sparse/cholmod_adapter.h"
 #include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/limits.h"
 #include "tests/temp_files.h"
 #include "tests/test_matrices.h"
 
@@ -438,5 +439,28 @@ TEST(MatrixMarketWrite, CannotWrite) {
   }
 }
 
+// Declared sizes are checked against size_limits() before anything is allocated (issue 14); a
+// lifted limit reads the same file.
+TEST(MatrixMarket, DeclaredSizesBeyondTheLimitsAreRefused) {
+  const std::string content = "%%MatrixMarket matrix coordinate real symmetric\n20 20 2\n1 1 1\n20 20 1\n";
+  const SizeLimits saved = size_limits();
+  size_limits().rows = 10;
+  expect_error(content, 2, {"20 rows", "limit of 10"});
+  size_limits() = saved;
+  size_limits().entries = 1;
+  expect_error(content, 2, {"2 entries", "limit of 1"});
+  size_limits() = SizeLimits::none();
+  EXPECT_EQ(read_text(content).n, 20);
+  size_limits() = saved;
+}
+
+// Input bytes in messages are escaped and bounded: a NUL or a control byte inside an entry no
+// longer cuts the message short or spills into the terminal (issue 14).
+TEST(MatrixMarket, ControlBytesInAnEntryAreEscapedInTheMessage) {
+  static const char kContent[] = "%%MatrixMarket matrix coordinate real symmetric\n2 2 2\n1 1 1\0x\x1b[2J\n2 2 1\n";
+  const std::string message = error_of(temp_file("nul.mtx", std::string(kContent, sizeof(kContent) - 1)));
+  EXPECT_NE(message.find("\\x00x\\x1b[2J"), std::string::npos) << message;
+  for (char c : message) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "byte " << int(c) << " in: " << message;
+}
 }  // namespace
 }  // namespace ldlpgs

@@ -624,5 +624,27 @@ TEST(SceneBadInput, BadFixturesNameTheirFileAndEntry) {
   }
 }
 
+// Deeply nested JSON (issue 14, class 2): the parser survives it, but the message dumped the
+// offending value recursively and overflowed the stack at 4000 levels (70k in Release). Now
+// one short line whatever the depth.
+TEST(Scene, DeeplyNestedValueGivesAShortMessage) {
+  for (const int depth : {4000, 200000}) {
+    const std::string nested = std::string(depth, '[') + std::string(depth, ']');
+    const std::string path = temp_file("deep.json", "{\"name\": \"deep\", \"bodies\": [" + nested + "]}");
+    const std::string message = file_error_of(path);
+    EXPECT_LT(message.size(), 300u) << message;
+    EXPECT_NE(message.find("[[[["), std::string::npos) << message;
+    EXPECT_NE(message.find("..."), std::string::npos) << message;
+  }
+}
+
+// A syntax error's message quotes at most a few hundred printable characters of the input.
+TEST(Scene, SyntaxErrorMessageIsBoundedAndPrintable) {
+  std::string token(100000, 'y');
+  token[10] = '\n';
+  const std::string message = file_error_of(temp_file("bad.json", "{\"name\": tru" + token));
+  EXPECT_LT(message.size(), 400u) << message.substr(0, 400);
+  for (char c : message) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "byte " << int(c);
+}
 }  // namespace
 }  // namespace ldlpgs
