@@ -13,10 +13,16 @@ shift || true
 packages=(cmake g++ make libsuitesparse-dev libmetis-dev libeigen3-dev libgtest-dev
           libbenchmark-dev nlohmann-json3-dev libcli11-dev pkg-config
           libmujoco-dev libqhull-dev libmujoco-samples libode-dev libbullet-dev
-          pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib)
+          pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib
+          libopenblas0-serial)
 # (pybind11 and python3-*: the Python module, python/, its pytest suite and the example script
 # examples/compare_orderings.py, which draws with matplotlib)
 # (libqhull-dev: Debian's mujocoConfig.cmake names /usr/include/libqhull_r/ and fails without it)
+# (libopenblas0-serial: an optimized BLAS/LAPACK, one thread, registered as the libblas.so.3 and
+# liblapack.so.3 alternative above the reference libblas3 that libsuitesparse-dev pulls in, so
+# that CHOLMOD supernodal is timed as on a user's machine: issue 13 measured it on bcsstk13 2.3x
+# slower than ours with the reference BLAS, 1.3x faster with OpenBLAS (papers/factor.md has ours);
+# `ldlpgs bench` prints the BLAS in use)
 
 install_missing() {
   local missing=()

@@ -1,18 +1,21 @@
 // ldlpgs bench MATRIX: median time of the numeric factorization and of one solve for our block
 // LDL^T and, on the same matrix and scalar permutation, CHOLMOD (simplicial and supernodal),
 // Eigen's SimplicialLDLT and, for small matrices, Eigen's dense LDLT; each with the backward
-// error its solution reached. Symbolic work is done before any timing.
+// error its solution reached. Symbolic work is done before any timing. It names the BLAS that
+// CHOLMOD supernodal calls (blas_in_use()), which decides that solver's speed.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <string>
 #include <utility>
 
 #include "apps/commands.h"
 #include "apps/compare.h"
 #include "apps/options.h"
+#include "bench/competitors.h"
 #include "bench/ldlpgs_solver.h"
 #include "bench/median.h"
 
@@ -78,6 +81,7 @@ Command add_bench_command(CLI::App& app) {
     const Ordering ordering = compute_ordering(info, p.blocks, p.a);
     auto ours = std::make_unique<LdlpgsSolver>(p.a, p.blocks, ordering);
     const double flops = ours->symbolic().flops();
+    const std::string blas = blas_in_use();  // before any timing: it may pin OpenBLAS's threads
     // each solver is timed for at least 0.2 s, and a large matrix's factorizations take seconds
     auto timed = [&](DirectSolver& s) {
       if (p.a.n >= kProgressDimension) progress("bench", p.name + ": " + std::string(s.name()));
@@ -99,7 +103,7 @@ Command add_bench_command(CLI::App& app) {
       nlohmann::json j = {{"matrix", p.name}, {"n", p.a.n}, {"blocks", p.blocks.num_blocks()},
                           {"ordering", ordering.name}, {"flops", flops}, {"gflops", number_or_null(gflops)},
                           {"symbolic_bytes", ours->symbolic().memory_bytes()},
-                          {"rsi_entries", ours->symbolic().rsi_size()}};
+                          {"rsi_entries", ours->symbolic().rsi_size()}, {"blas", blas}};
       // ours unprefixed, every other solver's fields prefixed with its name (null: not run)
       std::vector<std::string_view> names = {mine.name};
       names.insert(names.end(), direct_solver_names().begin(), direct_solver_names().end());
@@ -118,6 +122,7 @@ Command add_bench_command(CLI::App& app) {
       std::printf("%s: n = %d, %d blocks, ordering %s, %.0f flops, symbolic phase holds %lld bytes\n", p.name.c_str(),
                   p.a.n, p.blocks.num_blocks(), ordering.name.c_str(), flops,
                   static_cast<long long>(ours->symbolic().memory_bytes()));
+      std::printf("BLAS (CHOLMOD supernodal): %s\n", blas.c_str());
       std::printf("%-20s %12s %12s %12s %14s %16s\n", "solver", "factor us", "solve us", "GFlop/s",
                   "backward err", "fact+solve ratio");
       for (const Timing& t : timings) {

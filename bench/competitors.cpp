@@ -2,9 +2,12 @@
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <array>
 #include <cassert>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -227,7 +230,42 @@ std::string known_names() {
   return s;
 }
 
+// A function of the process's global scope by name, null if no loaded library defines it.
+template <class F>
+F* global_function(const char* name) {
+  return reinterpret_cast<F*>(dlsym(RTLD_DEFAULT, name));
+}
+
+std::string find_blas() {
+  void* dgemm = dlsym(RTLD_DEFAULT, "dgemm_");
+  Dl_info info{};
+  if (dgemm == nullptr || dladdr(dgemm, &info) == 0 || info.dli_fname == nullptr) return "dgemm_ not found";
+  std::string blas = info.dli_fname;
+  if (char* real = realpath(info.dli_fname, nullptr)) {
+    blas = real;
+    std::free(real);
+  }
+  // OpenBLAS's own entry points (openblas_config.h); get_parallel: 0 sequential, 1 pthreads,
+  // 2 OpenMP.
+  const auto config = global_function<char*()>("openblas_get_config");
+  if (config == nullptr) return blas;
+  blas += std::string(" (") + config();
+  const auto parallel = global_function<int()>("openblas_get_parallel");
+  const auto threads = global_function<int()>("openblas_get_num_threads");
+  const auto set_threads = global_function<void(int)>("openblas_set_num_threads");
+  if (parallel != nullptr && parallel() != 0 && threads != nullptr && set_threads != nullptr) {
+    blas += ", " + std::to_string(threads()) + " threads pinned to 1";
+    set_threads(1);
+  }
+  return blas + ")";
+}
+
 }  // namespace
+
+std::string blas_in_use() {
+  static const std::string blas = find_blas();
+  return blas;
+}
 
 std::span<const std::string_view> direct_solver_names() { return kNames; }
 

@@ -12,6 +12,7 @@
 // CHOLMOD's postordering of the elimination tree, which changes neither fill nor flops.
 #include <memory>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "ldlpgs/sparse/csc.h"
@@ -40,5 +41,15 @@ std::unique_ptr<DirectSolver> make_direct_solver(std::string_view name, const Sy
                                                  std::span<const int> perm);
 // All names, in the order reports list them.
 std::span<const std::string_view> direct_solver_names();
+
+// The BLAS that CHOLMOD's supernodal factorization calls in this process (the only solver here
+// that calls BLAS): the file that defines dgemm_ in the global scope, which is where CHOLMOD's
+// reference binds, symlinks followed (Debian's alternatives choose libblas.so.3 at load time, so
+// the link's name says nothing), then, for OpenBLAS, its openblas_get_config(). E.g.
+//   /usr/lib/x86_64-linux-gnu/blas/libblas.so.3.11.0                     (reference BLAS)
+//   /usr/lib/x86_64-linux-gnu/openblas-serial/libblas.so.3 (OpenBLAS 0.3.21 ...)
+// A threaded OpenBLAS is pinned to one thread by the first call, and the text says so: every
+// solver compared here runs on one core. Computed once; "dgemm_ not found" when no BLAS is loaded.
+std::string blas_in_use();
 
 }  // namespace ldlpgs

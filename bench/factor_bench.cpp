@@ -27,6 +27,12 @@
 // included: CHOLMOD's supernodal factorization runs OpenMP threads, whose time the default CPU
 // time of the main thread leaves out, and `ldlpgs bench` reports wall-clock medians too.
 //
+// CHOLMOD's supernodal factorization is BLAS-3 on its dense fronts (dsyrk, dgemm, dpotrf) and
+// runs at the speed of whichever libblas.so.3 the system's alternatives chose: the context block
+// printed before the results names it ("blas", bench/competitors.h blas_in_use()). Debian's
+// reference BLAS makes it several times slower than OpenBLAS (papers/factor.md); build.sh installs
+// OpenBLAS's serial build. Ours, CHOLMOD simplicial and Eigen call no BLAS.
+//
 // Names end in the problem (<family>-<constraints> or the matrix's file name), so a regex such
 // as --benchmark_filter='heavy-22|chain-63' selects problems and 'factor/ldlpgs/' a solver.
 //
@@ -274,6 +280,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (!register_matrices()) return 1;
+  benchmark::AddCustomContext("blas", blas_in_use());
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -3,6 +3,11 @@
 
 Usage: python3 papers/factor_tables.py [build/bin/ldlpgs]   (prints Markdown to stdout)
 Run it on an idle machine: the timings are medians, but two cores shared with a build are not.
+Each table is preceded by what its numbers depend on: the commit, the BLAS that CHOLMOD
+supernodal called (`ldlpgs bench`'s `blas`) and the load average before and after it.
+TABLES (default verify,mechanisms,matrices,blas) selects tables; `blas` times CHOLMOD supernodal
+on a few problems with the system's BLAS and, through LD_LIBRARY_PATH, with Debian's reference
+BLAS and LAPACK.
 """
 import json
 import os
@@ -15,10 +20,15 @@ MATRICES = os.path.join(ROOT, "tests", "data", "matrices")
 FAMILIES = ["chain", "tree", "ladder", "loop", "heavy", "grid", "star"]
 # Constraints giving dim(H) about 90, 250, 1000 and 5000 (about 3.95 rows per constraint).
 SIZES = [22, 63, 253, 1265]
+# Debian's reference BLAS and LAPACK (libblas3, liblapack3): first on the library path, they
+# replace the libblas.so.3 and liblapack.so.3 alternatives (OpenBLAS once build.sh installed it).
+REFERENCE_BLAS = "/usr/lib/x86_64-linux-gnu/blas:/usr/lib/x86_64-linux-gnu/lapack"
+# The problems where CHOLMOD supernodal has dense fronts worth BLAS-3 (the most flops per row).
+BLAS_PROBLEMS = ["heavy:63", "heavy:253", "grid:1265", "bcsstk13.mtx", "dwt_992.mtx", "bcsstk02.mtx"]
 
 
-def run(*args):
-    out = subprocess.run([LDLPGS, *args, "--json"], capture_output=True, text=True)
+def run(*args, env=None):
+    out = subprocess.run([LDLPGS, *args, "--json"], capture_output=True, text=True, env=env)
     if out.returncode not in (0, 1):
         sys.exit(f"{' '.join(args)}: {out.stderr.strip()}")
     return json.loads(out.stdout)
@@ -27,6 +37,25 @@ def run(*args):
 def matrices():
     names = sorted(f for f in os.listdir(MATRICES) if f.endswith(".mtx") and f != "Pd.mtx")
     return [os.path.join(MATRICES, f) for f in names]
+
+
+def commit():
+    out = subprocess.run(["git", "-C", ROOT, "describe", "--always", "--dirty"], capture_output=True, text=True)
+    return out.stdout.strip() or "unknown"
+
+
+def load():
+    return "/".join(f"{x:.2f}" for x in os.getloadavg())
+
+
+def measured(title, table):
+    """Prints the table's title, runs table() (which returns the BLAS it saw, or None) and states
+    the conditions of the measurement under it."""
+    print(f"### {title}\n")
+    before = load()
+    blas = table()
+    print(f"\nMeasured at {commit()}, load average (1/5/15 min) {before} before and {load()} after"
+          + (f", BLAS {blas}" if blas else "") + ".\n")
 
 
 def fmt(x, spec):
@@ -48,10 +77,13 @@ def verify_table():
 
 def bench_table(problems):
     print("| matrix | n | flops | ldlpgs factor us | solve us | GFlop/s | CHOLMOD | CHOLMOD supernodal |"
-          " Eigen simplicial | Eigen dense | ratio CHOLMOD | ratio Eigen simplicial | ratio dense |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          " Eigen simplicial | Eigen dense | ratio CHOLMOD | ratio CHOLMOD supernodal | ratio Eigen simplicial |"
+          " ratio dense |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    blas = set()
     for p in problems:
         b = run("bench", p)
+        blas.add(b["blas"])
         ours = b["factor_us"] + b["solve_us"]
 
         def both(name):
@@ -68,21 +100,46 @@ def bench_table(problems):
 
         print(f"| {b['matrix']} | {b['n']} | {b['flops']:.3g} | {b['factor_us']:.1f} | {b['solve_us']:.1f}"
               f" | {b['gflops']:.2f} | {cell('cholmod')} | {cell('cholmod_supernodal')} | {cell('eigen_simplicial')}"
-              f" | {cell('eigen_dense')} | {ratio('cholmod')} | {ratio('eigen_simplicial')} | {ratio('eigen_dense')} |")
+              f" | {cell('eigen_dense')} | {ratio('cholmod')} | {ratio('cholmod_supernodal')}"
+              f" | {ratio('eigen_simplicial')} | {ratio('eigen_dense')} |")
+    return ", ".join(sorted(blas))
+
+
+def blas_table():
+    """CHOLMOD supernodal's factor time with each BLAS, on the same problems, one after the other."""
+    print("| matrix | n | flops | ldlpgs factor us | CHOLMOD supernodal factor us, reference BLAS |"
+          " CHOLMOD supernodal factor us, system BLAS | reference / system | ratio CHOLMOD supernodal (factor + solve), reference |"
+          " ratio, system |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    reference_env = dict(os.environ, LD_LIBRARY_PATH=REFERENCE_BLAS)
+    seen = set()
+    for p in BLAS_PROBLEMS:
+        if p.endswith(".mtx"):
+            p = os.path.join(MATRICES, p)
+        ref, sys_ = run("bench", p, env=reference_env), run("bench", p)
+        seen.update([f"reference {ref['blas']}", f"system {sys_['blas']}"])
+
+        def total(b, name):
+            return b[f"{name}factor_us"] + b[f"{name}solve_us"]
+
+        s = "cholmod_supernodal_"
+        print(f"| {sys_['matrix']} | {sys_['n']} | {sys_['flops']:.3g} | {sys_['factor_us']:.1f}"
+              f" | {ref[s + 'factor_us']:.1f} | {sys_[s + 'factor_us']:.1f} | {ref[s + 'factor_us'] / sys_[s + 'factor_us']:.2f}x"
+              f" | {total(ref, s) / total(ref, ''):.2f}x | {total(sys_, s) / total(sys_, ''):.2f}x |")
+    return "; ".join(sorted(seen))
 
 
 if __name__ == "__main__":
-    which = os.environ.get("TABLES", "verify,mechanisms,matrices").split(",")
+    which = os.environ.get("TABLES", "verify,mechanisms,matrices,blas").split(",")
     if "verify" in which:
-        print("### Verification against CHOLMOD (ordering meca)\n")
-        verify_table()
-        print()
+        measured("Verification against CHOLMOD (ordering meca)", verify_table)
     if "mechanisms" in which:
-        print("### Speed on mechanisms (ordering meca; medians; factor + solve in microseconds)\n")
         # heavy at 1265 constraints is a dense n = 5000 matrix: seconds per factorization for
         # every solver, minutes for the medians; `ldlpgs bench heavy:1265` times it alone.
-        bench_table([f"{f}:{m}" for m in SIZES for f in FAMILIES if not (f == "heavy" and m == SIZES[-1])])
-        print()
+        measured("Speed on mechanisms (ordering meca; medians; factor + solve in microseconds)",
+                 lambda: bench_table([f"{f}:{m}" for m in SIZES for f in FAMILIES
+                                      if not (f == "heavy" and m == SIZES[-1])]))
     if "matrices" in which:
-        print("### Speed on the test matrices (ordering meca, blocks auto)\n")
-        bench_table(matrices())
+        measured("Speed on the test matrices (ordering meca, blocks auto)", lambda: bench_table(matrices()))
+    if "blas" in which:
+        measured("CHOLMOD supernodal: reference BLAS against the system's (ordering meca)", blas_table)

@@ -3,7 +3,7 @@
 // PartialPivLU, an algorithm none of them uses) within what the condition number allows;
 // refactoring gives the same answer; each reports the pivot failures its algorithm has (worked
 // by hand); the CHOLMOD ones allocate nothing from the second solve on; unknown names are
-// refused.
+// refused; the BLAS CHOLMOD calls is named by a file that exists.
 #include "bench/competitors.h"
 
 #include <gtest/gtest.h>
@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <numeric>
 #include <random>
 #include <string>
@@ -210,6 +211,19 @@ TEST(DirectSolvers, CholmodSolvesAllocateNothingAfterTheFirst) {
     }
     EXPECT_EQ(allocations, 0);
   }
+}
+
+TEST(DirectSolvers, BlasInUseNamesALoadedLibrary) {
+  // CHOLMOD links libblas.so.3, so dgemm_ is resolved in this process whichever BLAS the system
+  // chose; the path is realpath's, symlinks followed, and OpenBLAS adds its configuration after
+  // " (". Which BLAS it is depends on the machine and is not asserted.
+  const std::string blas = blas_in_use();
+  const std::string path = blas.substr(0, blas.find(" ("));
+  ASSERT_FALSE(path.empty());
+  EXPECT_EQ(path.front(), '/') << blas;
+  EXPECT_TRUE(std::filesystem::is_regular_file(path)) << blas;
+  EXPECT_NE(std::filesystem::path(path).filename().string().find(".so"), std::string::npos) << blas;
+  EXPECT_EQ(blas_in_use(), blas);  // computed once
 }
 
 }  // namespace
