@@ -37,20 +37,26 @@ TEST_P(Kernels, LdlNodeReconstructsTheBlock) {
   EXPECT_LT((l * dd * l.transpose() - Eigen::MatrixXd(n)).norm(), 1e-13 * n.norm());
 }
 
-TEST_P(Kernels, ComputeLSolvesAgainstTheNodeBlock) {
+TEST_P(Kernels, BeginAndEndLSolveAgainstTheNodeBlock) {
   const int d = GetParam(), h = 2 * d + 1;
   const RowMatrix n = random_spd(d, 100 + d);
   const RowMatrix e = RowMatrix::Random(h, d);
-  RowMatrix f = n, l(h, d);
+  RowMatrix f = n, l = e, w(h, d), y;
   const std::vector<double> floor(d, 0.0);
   std::vector<double> inv_d(d);
   kernels::dispatch_size(d, [&](auto size) {
     constexpr int N = decltype(size)::value;
     kernels::ldl_node<N>(f.data(), floor.data(), inv_d.data(), d);
-    kernels::compute_l<N>(l.data(), f.data(), inv_d.data(), e.data(), h, d);
+    kernels::begin_l<N>(l.data(), w.data(), f.data(), inv_d.data(), h, d);
+    y = l;
+    kernels::end_l<N>(l.data(), f.data(), h, d);
   });
-  const Eigen::MatrixXd expected = Eigen::MatrixXd(e) * Eigen::MatrixXd(n).inverse();
+  const Eigen::MatrixXd ninv = Eigen::MatrixXd(n).inverse();
+  const Eigen::MatrixXd expected = Eigen::MatrixXd(e) * ninv;
   EXPECT_LT((Eigen::MatrixXd(l) - expected).norm(), 1e-12 * expected.norm());
+  // The reduction's operands: W Y^T = E N^-1 E^T = E L^T.
+  const Eigen::MatrixXd product = Eigen::MatrixXd(e) * ninv * Eigen::MatrixXd(e).transpose();
+  EXPECT_LT((Eigen::MatrixXd(w) * Eigen::MatrixXd(y).transpose() - product).norm(), 1e-12 * product.norm());
 }
 
 TEST_P(Kernels, ReduceRunsSubtractEachPanelProductAtItsTarget) {
