@@ -114,10 +114,12 @@ inline void end_l(double* __restrict el, const double* __restrict node, int h, i
 
 // S <- S - E L^T (the talk's reduce<degree>, most of the time) for one edge block b of the
 // column, as W Y^T (begin_l): e holds W, lb the DB rows of Y of block b. Each of the `count` runs
-// (target, row, rows) subtracts rows [row, row + rows) of W times Y_b^T from `rows` consecutive target rows of stride DB (the node
-// block of b, whose upper triangle is written but never read, and/or edge blocks below it).
-// Both sizes fixed at compile time make each target row DB independent unrolled dot products.
-// Returns the runs' end.
+// (target, row, rows) subtracts rows [row, row + rows) of W times Y_b^T from `rows` consecutive
+// target rows of stride DB (the node block of b and/or edge blocks below it). The first run
+// starts with b's own DB rows landing in its node block (symbolic.cpp: a == b comes first), of
+// which only the lower triangle is ever read: its upper DB(DB-1)/2 products are skipped, nearly
+// half the reduction of a column with one edge block (a chain's). Both sizes fixed at compile
+// time make each target row DB independent unrolled dot products. Returns the runs' end.
 template <int N, int DB>
 inline const int32_t* reduce_runs(double* __restrict values, const double* __restrict e, const double* __restrict lb,
                                   const int32_t* runs, int count, int n, int db) {
@@ -126,7 +128,11 @@ inline const int32_t* reduce_runs(double* __restrict values, const double* __res
   for (int i = 0; i < count; ++i, runs += 3) {
     double* __restrict t = values + runs[0];
     const double* er = e + runs[1] * m;
-    for (int r = 0; r < runs[2]; ++r, t += nb, er += m)
+    int r = 0;
+    if (i == 0)
+      for (; r < nb; ++r, t += nb, er += m)
+        for (int c = 0; c <= r; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+    for (; r < runs[2]; ++r, t += nb, er += m)
       for (int c = 0; c < nb; ++c) t[c] -= dot<N>(er, lb + c * m, m);
   }
   return runs;
