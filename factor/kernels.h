@@ -61,40 +61,65 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
   return -1;
 }
 
-// x <- N^-1 x for a factored node block (L D L^T in place, inv_d = 1 / D): forward with the
-// unit-lower L, scale by D^-1, back substitution with L^T.
+// The substitutions with a factored node block (L D L^T in place, inv_d = 1 / D), per row x:
+// forward with the unit-lower L (x <- L^-1 x), back with L^T (x <- L^-T x); x <- N^-1 x is
+// forward, scale by D^-1, back.
 template <int N>
-inline void solve_node(const double* a, const double* inv_d, double* x, int n) {
+inline void forward_unit(const double* a, double* x, int n) {
   const int m = N ? N : n;
   for (int i = 1; i < m; ++i)
     for (int k = 0; k < i; ++k) x[i] -= a[i * m + k] * x[k];
-  for (int i = 0; i < m; ++i) x[i] *= inv_d[i];
+}
+template <int N>
+inline void backward_unit(const double* a, double* x, int n) {
+  const int m = N ? N : n;
   for (int i = m - 2; i >= 0; --i)
     for (int k = i + 1; k < m; ++k) x[i] -= a[k * m + i] * x[k];
 }
-
-// L_{*,k} = E_{*,k} N_k^-1 (the talk's computeL): row r of L solves N_k l^T = e_r^T by
-// substitution with N_k's factors (N_k is symmetric). The rows are independent, so their
-// substitutions overlap in the pipeline. Substitution, not the explicit inverse the talk
-// multiplies by: with the inverse the backward error of ladder and grid mechanisms grew from
-// 2e-17 to 8e-14 (papers/factor.md). e and l are h x d row-major; l is the scratch buffer.
 template <int N>
-inline void compute_l(double* __restrict l, const double* __restrict node, const double* __restrict inv_d,
-                      const double* __restrict e, int h, int n) {
+inline void solve_node(const double* a, const double* inv_d, double* x, int n) {
+  const int m = N ? N : n;
+  forward_unit<N>(a, x, m);
+  for (int i = 0; i < m; ++i) x[i] *= inv_d[i];
+  backward_unit<N>(a, x, m);
+}
+
+// L_{*,k} = E_{*,k} N_k^-1 (the talk's computeL), in two halves around the reduction. Row r of L
+// solves N_k l^T = e_r^T by substitution with N_k's factors: w = L_kk^-1 e (forward), y = D^-1 w,
+// l = L_kk^-T y (back). The reduction's product is E L^T = E N^-1 E^T = W Y^T, so begin_l gives
+// it W (in w, the scratch) and Y (in el, over E), and end_l finishes L in place afterwards. On a
+// chain every pivot waits for the previous one's reduction: the back substitution (a chain of
+// d(d-1)/2 dependent multiply-subtracts per row) is then off that critical path, overlapping the
+// next pivot. Substitution, not the explicit inverse the talk multiplies by: with the inverse
+// the backward error of ladder and grid mechanisms grew from 2e-17 to 8e-14 (papers/factor.md).
+// el and w are h x d row-major.
+template <int N>
+inline void begin_l(double* __restrict el, double* __restrict w, const double* __restrict node,
+                    const double* __restrict inv_d, int h, int n) {
   const int m = N ? N : n;
   for (int r = 0; r < h; ++r) {
-    double* lr = l + r * m;
-    for (int c = 0; c < m; ++c) lr[c] = e[r * m + c];
-    solve_node<N>(node, inv_d, lr, m);
+    double* yr = el + r * m;
+    forward_unit<N>(node, yr, m);
+    for (int c = 0; c < m; ++c) {
+      w[r * m + c] = yr[c];
+      yr[c] *= inv_d[c];
+    }
   }
+}
+template <int N>
+inline void end_l(double* __restrict el, const double* __restrict node, int h, int n) {
+  const int m = N ? N : n;
+  for (int r = 0; r < h; ++r) backward_unit<N>(node, el + r * m, m);
 }
 
 // S <- S - E L^T (the talk's reduce<degree>, most of the time) for one edge block b of the
-// column: lb holds its DB rows of L. Each of the `count` runs (target, row, rows) subtracts rows
-// [row, row + rows) of E times L_b^T from `rows` consecutive target rows of stride DB (the node
-// block of b, whose upper triangle is written but never read, and/or edge blocks below it).
-// Both sizes fixed at compile time make each target row DB independent unrolled dot products.
-// Returns the runs' end.
+// column, as W Y^T (begin_l): e holds W, lb the DB rows of Y of block b. Each of the `count` runs
+// (target, row, rows) subtracts rows [row, row + rows) of W times Y_b^T from `rows` consecutive
+// target rows of stride DB (the node block of b and/or edge blocks below it). The first run
+// starts with b's own DB rows landing in its node block (symbolic.cpp: a == b comes first), of
+// which only the lower triangle is ever read: its upper DB(DB-1)/2 products are skipped, nearly
+// half the reduction of a column with one edge block (a chain's). Both sizes fixed at compile
+// time make each target row DB independent unrolled dot products. Returns the runs' end.
 template <int N, int DB>
 inline const int32_t* reduce_runs(double* __restrict values, const double* __restrict e, const double* __restrict lb,
                                   const int32_t* runs, int count, int n, int db) {
@@ -103,7 +128,11 @@ inline const int32_t* reduce_runs(double* __restrict values, const double* __res
   for (int i = 0; i < count; ++i, runs += 3) {
     double* __restrict t = values + runs[0];
     const double* er = e + runs[1] * m;
-    for (int r = 0; r < runs[2]; ++r, t += nb, er += m)
+    int r = 0;
+    if (i == 0)
+      for (; r < nb; ++r, t += nb, er += m)
+        for (int c = 0; c <= r; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+    for (; r < runs[2]; ++r, t += nb, er += m)
       for (int c = 0; c < nb; ++c) t[c] -= dot<N>(er, lb + c * m, m);
   }
   return runs;

@@ -157,8 +157,9 @@ FactorInfo Numeric::eliminate() {
       constexpr int N = decltype(size)::value;
       bad = kernels::ldl_node<N>(node, floor, inv_d, d);
       if (bad >= 0) return;
-      double* l = scratch_.data();
-      kernels::compute_l<N>(l, node, inv_d, e, h, d);
+      // S -= W Y^T with W in the scratch, Y over E, then L over Y (kernels::begin_l).
+      double* w = scratch_.data();
+      kernels::begin_l<N>(e, w, node, inv_d, h, d);
       const int m = static_cast<int>(s.edges(k).size());
       const int32_t* rsi = s.rsi(k);
       const int* rows = s.edge_rows(k);
@@ -166,10 +167,10 @@ FactorInfo Numeric::eliminate() {
       for (int b = 0; b < m; ++b) {
         kernels::dispatch_size(sizes[b], [&](auto size_b) {
           constexpr int DB = decltype(size_b)::value;
-          rsi = kernels::reduce_runs<N, DB>(v, e, l + rows[b] * d, rsi + 1, rsi[0], d, sizes[b]);
+          rsi = kernels::reduce_runs<N, DB>(v, w, e + rows[b] * d, rsi + 1, rsi[0], d, sizes[b]);
         });
       }
-      std::copy(l, l + h * d, e);  // (memcpy may not take the null of an empty scratch)
+      kernels::end_l<N>(e, node, h, d);
     });
     if (bad >= 0) {
       const int row = s.row_start(k) + bad;

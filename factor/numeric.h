@@ -3,8 +3,9 @@
 // change its structure; all memory is allocated by the constructor, none by factorize or solve.
 //
 // Factorization, per pivot k in order (the talk's block Gaussian elimination):
-//   N_k = L_kk D_k L_kk^T in place; L_{*,k} = E_{*,k} N_k^-1 into a scratch buffer;
-//   S -= E_{*,k} L_{*,k}^T through the RSI; E_{*,k} <- L_{*,k}.
+//   N_k = L_kk D_k L_kk^T in place; W = E_{*,k} L_kk^-T into a scratch buffer and Y = W D_k^-1
+//   over E; S -= E_{*,k} L_{*,k}^T = W Y^T through the RSI; L_{*,k} = Y L_kk^-1 = E_{*,k} N_k^-1
+//   over Y (kernels::begin_l, end_l).
 // The result is H = L N L^T with L block unit-lower and N = blockdiag(N_k), each N_k kept as its
 // own L_kk D_k L_kk^T. The scalar LDL^T (CHOLMOD's) is L_scalar = L blockdiag(L_kk), D = D_k.
 #include <cstdint>
@@ -86,7 +87,7 @@ class Numeric {
   const FactorInfo& refuse_not_finite(int row, double value);  // status not_finite for that entry
   const Symbolic* symbolic_;
   std::vector<double> values_;   // packed blocks (size symbolic.num_values())
-  std::vector<double> scratch_;  // L_{*,k} before it replaces E (size symbolic.scratch_size())
+  std::vector<double> scratch_;  // W = E_{*,k} L_kk^-T for the reduction (kernels::begin_l; size symbolic.scratch_size())
   std::vector<double> floor_;    // zero-pivot threshold per permuted row (size n)
   std::vector<double> diag_;     // |H_rr| regularized, per permuted row (size n)
   std::vector<double> work_;     // permuted right-hand side (size n)

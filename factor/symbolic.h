@@ -43,7 +43,7 @@ class Symbolic {
   double flops() const { return flops_; }
   // Bytes held by this object (layout, RSI, load map): what a mechanism pays once.
   int64_t memory_bytes() const;
-  // Largest h x d of a column: the size of the numeric phase's scratch for L.
+  // Largest h x d of a column: the size of the numeric phase's scratch (kernels::begin_l's W).
   int64_t scratch_size() const { return scratch_size_; }
 
   // Per pivot position k (0 <= k < num_pivots):

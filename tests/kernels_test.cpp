@@ -37,29 +37,36 @@ TEST_P(Kernels, LdlNodeReconstructsTheBlock) {
   EXPECT_LT((l * dd * l.transpose() - Eigen::MatrixXd(n)).norm(), 1e-13 * n.norm());
 }
 
-TEST_P(Kernels, ComputeLSolvesAgainstTheNodeBlock) {
+TEST_P(Kernels, BeginAndEndLSolveAgainstTheNodeBlock) {
   const int d = GetParam(), h = 2 * d + 1;
   const RowMatrix n = random_spd(d, 100 + d);
   const RowMatrix e = RowMatrix::Random(h, d);
-  RowMatrix f = n, l(h, d);
+  RowMatrix f = n, l = e, w(h, d), y;
   const std::vector<double> floor(d, 0.0);
   std::vector<double> inv_d(d);
   kernels::dispatch_size(d, [&](auto size) {
     constexpr int N = decltype(size)::value;
     kernels::ldl_node<N>(f.data(), floor.data(), inv_d.data(), d);
-    kernels::compute_l<N>(l.data(), f.data(), inv_d.data(), e.data(), h, d);
+    kernels::begin_l<N>(l.data(), w.data(), f.data(), inv_d.data(), h, d);
+    y = l;
+    kernels::end_l<N>(l.data(), f.data(), h, d);
   });
-  const Eigen::MatrixXd expected = Eigen::MatrixXd(e) * Eigen::MatrixXd(n).inverse();
+  const Eigen::MatrixXd ninv = Eigen::MatrixXd(n).inverse();
+  const Eigen::MatrixXd expected = Eigen::MatrixXd(e) * ninv;
   EXPECT_LT((Eigen::MatrixXd(l) - expected).norm(), 1e-12 * expected.norm());
+  // The reduction's operands: W Y^T = E N^-1 E^T = E L^T.
+  const Eigen::MatrixXd product = Eigen::MatrixXd(e) * ninv * Eigen::MatrixXd(e).transpose();
+  EXPECT_LT((Eigen::MatrixXd(w) * Eigen::MatrixXd(y).transpose() - product).norm(), 1e-12 * product.norm());
 }
 
 TEST_P(Kernels, ReduceRunsSubtractEachPanelProductAtItsTarget) {
-  // Runs of 1, 3 and 7 rows of E (from rows 0, 1 and 4) times L_b^T (db rows of L from row 2;
+  // Runs of db, 3 and 7 rows of E (from rows 2, 1 and 4) times L_b^T (db rows of L from row 2;
   // db = 1..7 covers every unrolled size of the second dispatch and the generic one) land at
-  // offsets 0, 100, 200 with row stride db.
+  // offsets 0, 100, 200 with row stride db. The first run is block b's own rows landing in its
+  // node block: only its lower triangle is written.
   const int d = GetParam();
   for (int db = 1; db <= 7; ++db) {
-    const std::vector<int32_t> runs = {0, 0, 1, 100, 1, 3, 200, 4, 7};
+    const std::vector<int32_t> runs = {0, 2, db, 100, 1, 3, 200, 4, 7};
     const RowMatrix e = RowMatrix::Random(11, d), l = RowMatrix::Random(11, d);
     std::vector<double> values(300, 1.0);
     const int32_t* end = nullptr;
@@ -74,7 +81,10 @@ TEST_P(Kernels, ReduceRunsSubtractEachPanelProductAtItsTarget) {
     for (size_t run = 0; run < 3; ++run) {
       const int target = runs[3 * run], row = runs[3 * run + 1], rows = runs[3 * run + 2];
       for (int r = 0; r < rows; ++r)
-        for (int c = 0; c < db; ++c) EXPECT_NEAR(values[target + r * db + c], 1.0 - product(row + r, c), 1e-14) << run;
+        for (int c = 0; c < db; ++c) {
+          const double expected = run == 0 && c > r ? 1.0 : 1.0 - product(row + r, c);
+          EXPECT_NEAR(values[target + r * db + c], expected, 1e-14) << run;
+        }
       EXPECT_EQ(values[target + rows * db], 1.0);  // nothing beyond the run
     }
   }
