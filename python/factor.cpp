@@ -49,15 +49,17 @@ py::object number(double x) { return std::isfinite(x) ? py::object(py::float_(x)
 // One analyzed pattern and, after factorize, its numeric factor. The Symbolic is owned here (the
 // Numeric keeps a pointer to it).
 struct Factor {
-  SymmetricCsc pattern;  // the analyzed lower triangle: factorize must be given the same pattern
   BlockPattern blocks;
   Ordering ordering;
   std::unique_ptr<Symbolic> symbolic;
   std::unique_ptr<Numeric> numeric;
-  bool factored = false;
+  // (the analyzed pattern, checked by factorize, and whether a factorization ran are the
+  // library's: Symbolic::check_pattern, Numeric::factored)
+  bool factored() const { return numeric->factored(); }
+  int n() const { return symbolic->num_rows(); }
 
   const FactorInfo& usable(const char* what) const {
-    if (!factored) throw ArgumentError(std::string(what) + ": factorize(A) first");
+    if (!factored()) throw ArgumentError(std::string(what) + ": factorize(A) first");
     const FactorInfo& info = numeric->info();
     if (!info.usable()) throw ArgumentError(std::string(what) + ": the factorization failed: " + info.message());
     return info;
@@ -66,7 +68,7 @@ struct Factor {
   py::array_t<double, py::array::f_style> solve(py::handle b) const {
     usable("solve");
     py::array_t<double, py::array::f_style> x = dense_copy(b, "b");
-    const int n = pattern.n;
+    const int n = this->n();
     if (x.ndim() < 1 || x.ndim() > 2 || x.shape(0) != n)
       throw ArgumentError("b must have " + std::to_string(n) + " rows (shape (n,) or (n, k)), got shape " +
                           py::str(py::object(x.attr("shape"))).cast<std::string>());
@@ -79,10 +81,10 @@ struct Factor {
 Factor analyze(py::handle a_in, py::handle blocks, const std::string& ordering_name, int max_block, bool lower) {
   const OrderingInfo& info = find_ordering(ordering_name);
   Factor f;
-  f.pattern = symmetric_from_scipy(a_in, lower);
-  f.blocks = block_pattern_from(blocks, f.pattern, max_block);
-  f.ordering = compute_ordering(info, f.blocks, f.pattern);
-  f.symbolic = std::make_unique<Symbolic>(Symbolic::analyze(f.pattern, f.blocks, f.ordering));
+  const SymmetricCsc pattern = symmetric_from_scipy(a_in, lower);
+  f.blocks = block_pattern_from(blocks, pattern, max_block);
+  f.ordering = compute_ordering(info, f.blocks, pattern);
+  f.symbolic = std::make_unique<Symbolic>(Symbolic::analyze(pattern, f.blocks, f.ordering));
   f.numeric = std::make_unique<Numeric>(*f.symbolic);
   return f;
 }
@@ -190,7 +192,6 @@ void bind_factor(py::module_& m) {
             const SymmetricCsc a = symmetric_from_scipy(a_in, lower);
             // Another pattern or size than analyzed: the library's ArgumentError (Symbolic::check_pattern).
             f.numeric->factorize(a, {.regularization = regularization, .zero_pivot = zero_pivot});
-            f.factored = true;
             return self;
           },
           py::arg("A"), py::arg("regularization") = FactorOptions{}.regularization,
@@ -230,12 +231,12 @@ void bind_factor(py::module_& m) {
           "The fill-reducing permutation, P[k] = row eliminated k-th (scikit-sparse's).")
       .def_property_readonly(
           "status",
-          [](const Factor& f) { return f.factored ? py::object(py::str(to_string(f.numeric->info().status))) : py::object(py::none()); },
+          [](const Factor& f) { return f.factored() ? py::object(py::str(to_string(f.numeric->info().status))) : py::object(py::none()); },
           "\"ok\" (positive definite), \"indefinite\", \"zero pivot\", \"not finite\" (to_string(FactorStatus), as `ldlpgs verify` prints it); None before factorize.")
       .def_property_readonly(
           "inertia",
           [](const Factor& f) -> py::object {
-            if (!f.factored) return py::none();
+            if (!f.factored()) return py::none();
             const Inertia& i = f.numeric->info().inertia;
             return py::make_tuple(i.positive, i.negative, i.zero);
           },
@@ -243,13 +244,13 @@ void bind_factor(py::module_& m) {
           "before factorize.")
       .def_property_readonly(
           "message",
-          [](const Factor& f) { return f.factored ? py::object(py::str(f.numeric->info().message())) : py::object(py::none()); },
+          [](const Factor& f) { return f.factored() ? py::object(py::str(f.numeric->info().message())) : py::object(py::none()); },
           "One line naming the status and, if any, the failing (or first negative) block, row and pivot.")
       .def_property_readonly(
           "min_pivot_ratio",
-          [](const Factor& f) { return f.factored ? py::object(py::float_(f.numeric->info().min_pivot_ratio)) : py::object(py::none()); },
+          [](const Factor& f) { return f.factored() ? py::object(py::float_(f.numeric->info().min_pivot_ratio)) : py::object(py::none()); },
           "min over pivots of |d_r| / |A_rr|: near 0 means nearly singular.")
-      .def_property_readonly("n", [](const Factor& f) { return f.pattern.n; })
+      .def_property_readonly("n", [](const Factor& f) { return f.n(); })
       .def_property_readonly("ordering", [](const Factor& f) { return f.ordering.name; })
       .def_property_readonly("nnz_L", [](const Factor& f) { return f.symbolic->nnz_l(); },
                              "Entries of L with the diagonal, every block dense.")
@@ -257,9 +258,9 @@ void bind_factor(py::module_& m) {
                              "Flops of the factorization as CHOLMOD counts them, every block dense.")
       .def_property_readonly("block_sizes", [](const Factor& f) { return numpy_copy<int>(f.blocks.block_sizes()); })
       .def("__repr__", [](const Factor& f) {
-        return "<ldlpgs.Factor n=" + std::to_string(f.pattern.n) + " blocks=" + std::to_string(f.blocks.num_blocks()) +
+        return "<ldlpgs.Factor n=" + std::to_string(f.n()) + " blocks=" + std::to_string(f.blocks.num_blocks()) +
                " ordering=" + f.ordering.name + " status=" +
-               (f.factored ? to_string(f.numeric->info().status) : "unfactored") + ">";
+               (f.factored() ? to_string(f.numeric->info().status) : "unfactored") + ">";
       });
 
   m.def("analyze", &analyze, py::arg("A"), py::arg("blocks") = "auto", py::arg("ordering") = "meca",
