@@ -76,34 +76,47 @@ std::vector<int> partition_auto(const SymmetricCsc& a, int max_size) {
 }
 
 std::vector<int> read_partition(const std::string& path, int n) {
+  // Every message quotes the file name and the line through printable(): one bounded line of
+  // printable characters whatever the file holds (binary, a NUL, a megabyte-long line).
+  const std::string name = printable(path);
   std::ifstream in(path);
   // A directory opens as an empty stream: it would be reported as blocks summing to 0.
   std::error_code ec;
   if (!in || std::filesystem::is_directory(path, ec)) {
-    throw InputError(path + ": cannot open file");
+    throw InputError(name + ": cannot open file");
   }
   std::vector<int> blocks;
   int64_t sum = 0;
+  int64_t over_at = 0;  // the line at which the sizes first exceeded n (0: not yet)
   std::string text;
   for (int64_t line = 1; std::getline(in, text); ++line) {
     const std::string_view s = trim(text);
     if (s.empty() || s.front() == '#' || s.front() == '%') continue;
     int size = 0;
     const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), size);
-    const std::string where = path + ":" + std::to_string(line) + ": ";
+    const std::string where = name + ":" + std::to_string(line) + ": ";
     if (ec != std::errc() || end != s.data() + s.size()) {
-      throw InputError(where + "expected a positive integer block size, got '" + std::string(s) +
-                       "'");
+      std::string message = where + "expected a positive integer block size, got '";
+      message += printable(s, 40);
+      throw InputError(message + "'");
     }
     if (size < 1) {
       throw InputError(where + "block size must be positive, got " + std::to_string(size));
     }
+    // Past n the file is wrong whatever follows: the rest is still checked line by line, but not
+    // stored nor summed, so a huge file of 1s takes neither memory nor an overflowing sum.
+    if (over_at) continue;
     blocks.push_back(size);
     sum += size;
+    if (sum > n) over_at = line;
   }
-  if (in.bad()) throw InputError(path + ": cannot read file");
+  if (in.bad()) throw InputError(name + ": cannot read file");
+  if (over_at) {
+    throw InputError(name + ":" + std::to_string(over_at) + ": block sizes reach " + std::to_string(sum) +
+                     ", more than the matrix's " + std::to_string(n) + " rows");
+  }
   if (sum != n) {
-    throw InputError(path + ": block sizes sum to " + std::to_string(sum) + ", the matrix has " +
+    throw InputError(name + ": block sizes sum to " + std::to_string(sum) + ", the matrix has " +
                      std::to_string(n) + " rows");
   }
   return blocks;

@@ -243,6 +243,40 @@ TEST(ReadPartition, NegativeLine) {
   EXPECT_EQ(message, path + ":2: block size must be positive, got -3");
 }
 
+// Issue 14, class 8: the reader copied the offending line, raw and whole, into its message (a
+// megabyte of binary, control bytes and a NUL, multi-line), and the file name unescaped.
+TEST(ReadPartition, MessagesAreOneBoundedPrintableLine) {
+  std::string junk = "3\n";
+  junk += '\x01';
+  junk += std::string(1 << 20, '7');
+  junk += std::string("\0\r\x80x", 4);
+  const std::string path = temp_file(junk);
+  const std::string message = error_of([&] { read_partition(path, 10); });
+  EXPECT_EQ(message.rfind(path + ":2: ", 0), 0u) << message.substr(0, 200);
+  EXPECT_LT(message.size(), path.size() + 200) << message.substr(0, 200);
+  EXPECT_NE(message.find("\\x01"), std::string::npos) << message;
+  EXPECT_NE(message.find("...'"), std::string::npos) << message;
+  for (char c : message) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "byte " << int(c);
+
+  // A NUL after a number is not cut at (the message goes on, escaped).
+  const std::string nul = temp_file(std::string("3\n4\0x\n", 7));
+  EXPECT_EQ(error_of([&] { read_partition(nul, 7); }),
+            nul + ":2: expected a positive integer block size, got '4\\x00x'");
+
+  // A file name with a control byte is quoted escaped.
+  const std::string odd = ::testing::TempDir() + "ldlpgs_no\nsuch.blocks";
+  EXPECT_EQ(error_of([&] { read_partition(odd, 3); }),
+            ::testing::TempDir() + "ldlpgs_no\\x0asuch.blocks: cannot open file");
+}
+
+// Sizes past n: named at the line where they exceed it, and neither stored nor summed further
+// (a file of 2^31 - 1 on every line would overflow any sum).
+TEST(ReadPartition, SizesBeyondTheMatrixAreNamedAtTheirLine) {
+  const std::string path = temp_file("# c\n4\n4\n4\n2147483647\n2147483647\n");
+  EXPECT_EQ(error_of([&] { read_partition(path, 10); }),
+            path + ":4: block sizes reach 12, more than the matrix's 10 rows");
+}
+
 // --- parse_partition -------------------------------------------------------------------------
 
 TEST(ParsePartition, Auto) {
