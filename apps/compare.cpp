@@ -119,7 +119,7 @@ void print_table(std::FILE* out, const Problem& p, const std::vector<Row>& rows)
   };
   std::fprintf(out, "%s: n = %d, %d blocks, %lld block edges, nnz(A) = %lld\n", p.name.c_str(), p.a.n,
                p.blocks.num_blocks(), static_cast<long long>(p.blocks.num_edges()),
-               static_cast<long long>(2 * p.a.nnz() - p.a.n));
+               static_cast<long long>(full_nnz(p.a)));
   std::fprintf(out, "%-13s  %10s  %9s  %11s  %11s  %9s", "ordering", "nnz(L)", "flops", "block fill", "block flops",
                "ordering ms");
   if (with_cholmod) std::fprintf(out, "  %14s  %14s", "CHOLMOD nnz(L)", "CHOLMOD flops");
@@ -209,6 +209,7 @@ nlohmann::json to_json(const Problem& p, const Verification& v) {
           {"cholmod_status", v.cholmod_status},
           {"condition_estimate", number_or_null(v.condition_estimate)},
           {"tolerance", {{"factor", number_or_null(v.factor_tolerance)}, {"backward", v.tolerance.backward}}},
+          {"verifiable", v.verifiable},
           {"ok", v.ok}};
 }
 

@@ -159,7 +159,8 @@ int main(int argc, char** argv) {
   try {
     for (CLI::App* sub : app.get_subcommands()) return commands.at(sub)();
   } catch (const ldlpgs::InputError& e) {
-    std::fprintf(stderr, "ldlpgs: %s\n", ldlpgs::printable(e.what(), 400).c_str());
+    // (the readers quote input through printable() already: its escapes are kept as they are)
+    std::fprintf(stderr, "ldlpgs: %s\n", ldlpgs::printable(e.what(), 400, false).c_str());
     return 2;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "ldlpgs: out of memory on '%s': the input is too large for this machine\n",

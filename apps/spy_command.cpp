@@ -38,14 +38,6 @@ struct SpyArgs {
   ShatterArgs shatter;
 };
 
-// Stored entries of the full symmetric matrix whose lower triangle `a` holds.
-int64_t full_nnz(const SymmetricCsc& a) {
-  int64_t diagonal = 0;
-  for (int j = 0; j < a.n; ++j)
-    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) diagonal += a.row_idx[p] == j;
-  return 2 * a.nnz() - diagonal;
-}
-
 int run_spy(const SpyArgs& a) {
   const OrderingInfo& info = find_ordering(a.ordering);  // throws on an unknown name
   const Mechanism original = load_mechanism(a.scene);

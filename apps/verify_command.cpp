@@ -1,5 +1,6 @@
 // ldlpgs verify MATRIX: our block LDL^T beside CHOLMOD's simplicial LDL^T under the same
-// permutation (factor/verify.h); exit code 1 when they disagree beyond the printed tolerance.
+// permutation (factor/verify.h); exit code 1 when they disagree beyond the printed tolerance, or
+// when no tolerance could be computed (cond_1 inf) or it checks no digit (>= 1).
 #include <cmath>
 #include <cstdio>
 
@@ -25,7 +26,12 @@ void print(const Problem& p, const Verification& v) {
   std::printf("%-24s %14.2e   (tolerance %.1e)\n", "D max rel. difference", v.D_rel_diff, t);
   std::printf("%-24s %14.2e   (tolerance %.1e)\n", "x rel. difference", v.x_rel_diff, t);
   std::printf("factorization: %s\n", v.info.message().c_str());
-  std::printf("%s\n", v.ok ? "agree" : "DISAGREE");
+  if (!v.verifiable && v.info.usable()) {
+    std::printf("CANNOT VERIFY: the tolerance for L, D and x is %.1e (condition estimate %.2e), so no digit is "
+                "checked\n", t, v.condition_estimate);
+  } else {
+    std::printf("%s\n", v.ok ? "agree" : "DISAGREE");
+  }
 }
 
 }  // namespace

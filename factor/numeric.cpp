@@ -6,6 +6,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <sstream>
 #include <string>
 
@@ -67,20 +68,50 @@ bool Numeric::load(const SymmetricCsc& a, const FactorOptions& options) {
   return true;
 }
 
-// H + eps diag(H), and the zero-pivot thresholds relative to that diagonal.
+// H + eps diag(H), scaled into range when it is not, and the zero-pivot thresholds relative to
+// its diagonal.
 void Numeric::prepare(const FactorOptions& options) {
   const Symbolic& s = *symbolic_;
-  double largest = 0;
+  double largest = 0, smallest = std::numeric_limits<double>::infinity();  // of the nonzero |H_ii|
   for (int k = 0; k < s.num_pivots(); ++k) {
     const int d = s.size(k);
     double* node = values_.data() + s.node_offset(k);
     for (int l = 0; l < d; ++l) {
       node[l * d + l] *= 1 + options.regularization;
-      diag_[s.row_start(k) + l] = std::abs(node[l * d + l]);
-      largest = std::max(largest, diag_[s.row_start(k) + l]);
+      const double h = std::abs(node[l * d + l]);
+      diag_[s.row_start(k) + l] = h;
+      largest = std::max(largest, h);
+      if (h > 0) smallest = std::min(smallest, h);
     }
   }
-  for (int i = 0; i < s.num_rows(); ++i) floor_[i] = options.zero_pivot * (diag_[i] > 0 ? diag_[i] : largest);
+  // At the edges of double the elimination breaks though the matrix is fine: 1 / d overflows for
+  // a subnormal pivot (1e-314: "ok", then a NaN solution), 1e-12 |H_rr| underflows to 0, a
+  // Schur update overflows near 1e308 (issue 14). Factoring 2^-e H instead is exact (a power of
+  // two) and gives the same L and 2^-e D; solve() scales b alike, so x is unchanged. e centres
+  // the nonzero diagonal's binades on 1, but keeps every entry below 2^1000. Inside
+  // [2^-500, 2^500] nothing can go out of range (pivot ratios, the 1e-12 floor and the fill
+  // stay hundreds of binades from it), so the usual matrix is not touched: no pass, no rounding.
+  constexpr int kSafe = 500, kHighest = 1000;
+  scale_ = 0;
+  if (largest > std::ldexp(1.0, kSafe) || smallest < std::ldexp(1.0, -kSafe)) {
+    double amax = 0;
+    for (const double x : values_) amax = std::max(amax, std::abs(x));
+    if (amax > 0) {
+      const int top = std::ilogb(amax);
+      scale_ = std::max(std::midpoint(std::ilogb(smallest), std::ilogb(largest)), top - kHighest);
+      if (scale_ != 0) {
+        for (double& x : values_) x = std::ldexp(x, -scale_);
+        for (double& h : diag_) h = std::ldexp(h, -scale_);
+        largest = std::ldexp(largest, -scale_);
+      }
+    }
+  }
+  // A pivot at or below the smallest normal double counts as zero whatever the threshold: its
+  // reciprocal is inf (1 / 1e-314) or nearly, and the solve through it NaN. After the scaling
+  // that is a pivot below 2^-1022 of a diagonal centred on 1, a zero pivot in any reading.
+  constexpr double kTiny = std::numeric_limits<double>::min();
+  for (int i = 0; i < s.num_rows(); ++i)
+    floor_[i] = std::max(kTiny, options.zero_pivot * (diag_[i] > 0 ? diag_[i] : largest));
 }
 
 std::span<double> Numeric::begin_load() {
@@ -109,7 +140,7 @@ FactorInfo Numeric::factorize_loaded(const FactorOptions& options) {
     return refuse_not_finite(s.perm()[row], values_[at]);
   }
   prepare(options);
-  return eliminate();
+  return finish();
 }
 
 FactorInfo Numeric::factorize(const SymmetricCsc& a, const FactorOptions& options) {
@@ -124,7 +155,14 @@ FactorInfo Numeric::factorize(const SymmetricCsc& a, const FactorOptions& option
         if (!std::isfinite(a.values[p])) return refuse_not_finite(a.row_idx[p], a.values[p]);
     return refuse_not_finite(-1, 0);  // (unreachable: load() saw one)
   }
-  return eliminate();
+  return finish();
+}
+
+// The elimination, and the pivot it names back at H's scale (prepare() scaled H by 2^-scale_).
+FactorInfo Numeric::finish() {
+  eliminate();
+  info_.pivot = std::ldexp(info_.pivot, scale_);
+  return info_;
 }
 
 // A NaN or infinity in the input is the input's fault: the status names the entry's original row
@@ -237,6 +275,8 @@ void Numeric::solve(double* b, int nrhs, int ld) {
   for (int j = 0; j < nrhs; ++j) {
     double* x = b + static_cast<int64_t>(j) * ld;
     for (int i = 0; i < n; ++i) w[i] = x[perm[i]];
+    if (scale_ != 0)  // (2^-e H)^-1 (2^-e b) = H^-1 b (prepare)
+      for (int i = 0; i < n; ++i) w[i] = std::ldexp(w[i], -scale_);
     // L z = b column by column (z_k is final once the earlier columns are applied), then
     // N_k^-1 z_k, which no later column reads.
     for (int k = 0; k < s.num_pivots(); ++k) {
@@ -273,7 +313,7 @@ SymmetricCsc Numeric::scalar_ldl() const {
     const int* rows = s.column_rows(k);
     for (int c = 0; c < d; ++c) {
       l.row_idx.push_back(s.row_start(k) + c);
-      l.values.push_back(node[c * d + c]);
+      l.values.push_back(std::ldexp(node[c * d + c], scale_));  // D of H, not of 2^-e H
       for (int r = c + 1; r < d; ++r) {
         l.row_idx.push_back(s.row_start(k) + r);
         l.values.push_back(node[r * d + c]);

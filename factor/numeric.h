@@ -23,7 +23,8 @@ struct FactorOptions {
   double regularization = 0;
   // A pivot d of scalar row r counts as zero when |d| <= zero_pivot * |H_rr| (H regularized; the
   // largest |H_ii| when H_rr = 0): at 1e-12 the pivot has lost all but four digits to
-  // cancellation, and a solve through it would be noise.
+  // cancellation, and a solve through it would be noise. A pivot at or below the smallest normal
+  // double (2.2e-308, of H scaled into range: Numeric::prepare) is zero whatever this says.
   double zero_pivot = 1e-12;
 };
 
@@ -84,6 +85,7 @@ class Numeric {
   bool load(const SymmetricCsc& a, const FactorOptions& options);  // false: a non-finite entry
   void prepare(const FactorOptions& options);  // regularization and zero-pivot thresholds
   FactorInfo eliminate();                      // the elimination and the inertia, into info_
+  FactorInfo finish();                         // eliminate(), the pivot named at H's scale
   const FactorInfo& refuse_not_finite(int row, double value);  // status not_finite for that entry
   const Symbolic* symbolic_;
   std::vector<double> values_;   // packed blocks (size symbolic.num_values())
@@ -92,6 +94,7 @@ class Numeric {
   std::vector<double> diag_;     // |H_rr| regularized, per permuted row (size n)
   std::vector<double> work_;     // permuted right-hand side (size n)
   std::vector<double> inv_d_;    // 1 / D per permuted row (size n)
+  int scale_ = 0;                // the factored matrix is 2^-scale_ H (prepare(): H out of range)
   FactorInfo info_;
   bool factored_ = false;        // a factorization ran (info_ is its outcome)
 };

@@ -37,7 +37,11 @@ struct Verification {
   FactorInfo info;         // our factorization's status
   int cholmod_status = 0;  // CHOLMOD's Common->status
   VerifyTolerance tolerance;
-  bool ok = false;  // both factorizations usable and every difference within the tolerance
+  // The tolerance for L, D and x could be computed and verifies at least one digit: a finite
+  // condition estimate and factor_tolerance < 1. Without it nothing is verified, and ok is false
+  // (a condition estimate that overflowed once made the tolerance inf and everything "agree").
+  bool verifiable = false;
+  bool ok = false;  // verifiable, both factorizations usable and every difference within the tolerance
 };
 
 // Factors a (with the partition `blocks`) in the ordering's pivot order with both libraries and

@@ -56,6 +56,10 @@ Graph graph_from_edges(int n, std::span<const std::pair<int, int>> edges);
 // The graph of a symmetric matrix: an edge for every off-diagonal entry (explicit zeros count).
 Graph graph_of(const SymmetricCsc& a);
 
+// Stored entries of the full symmetric A whose lower triangle a stores: 2 off-diagonal + diagonal
+// (not 2 nnz - n, which assumes every diagonal entry is stored: -5 for an empty 5 x 5).
+int64_t full_nnz(const SymmetricCsc& a);
+
 // y = A x for the full symmetric A whose lower triangle a stores (sizes a.n).
 void symmetric_multiply(const SymmetricCsc& a, std::span<const double> x, std::span<double> y);
 // ||A||_inf of the full symmetric A: the largest absolute row sum.

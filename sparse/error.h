@@ -24,8 +24,9 @@ struct ArgumentError : std::invalid_argument {
 // Input text as it may appear in a one-line message: control bytes, DEL and bytes >= 0x80 (binary
 // or UTF-8) written as \xNN, a backslash as \\, and cut after max_chars with "..." (a 1 MB
 // one-line JSON file, a NUL inside a matrix entry and raw binary all made unbounded, cut or
-// multi-line messages before: issue 14).
-inline std::string printable(std::string_view text, size_t max_chars = 300) {
+// multi-line messages before: issue 14). escape_backslash = false is for text that is printable
+// already, a message whose quotes printable() made, so that its \xNN are not made \\xNN.
+inline std::string printable(std::string_view text, size_t max_chars = 300, bool escape_backslash = true) {
   static constexpr char kHex[] = "0123456789abcdef";
   std::string out;
   for (size_t k = 0; k < text.size(); ++k) {
@@ -34,7 +35,7 @@ inline std::string printable(std::string_view text, size_t max_chars = 300) {
       break;
     }
     const unsigned char c = static_cast<unsigned char>(text[k]);
-    if (c == '\\') {
+    if (c == '\\' && escape_backslash) {
       out += "\\\\";
     } else if (c < 0x20 || c >= 0x7f) {
       out += "\\x";

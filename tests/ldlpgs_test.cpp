@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -975,6 +976,88 @@ TEST(LdlpgsRobust, MessagesAreOneBoundedPrintableLine) {
   r = run("order " + nul);
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("\\x00"), std::string::npos) << r.err;  // escaped, and the message goes on after it
+}
+
+// issue 14: readers, numerics and messages
+
+// Class 8: order printed nnz(A) as 2 nnz - n, which assumes a stored diagonal: -5 for an empty
+// 5 x 5, 1 for a 3 x 3 with one diagonal and one off-diagonal entry (it has 3).
+TEST(LdlpgsRobust, OrderCountsTheEntriesOfTheFullMatrix) {
+  const std::string empty5 = temp_file("empty5.mtx", "%%MatrixMarket matrix coordinate real symmetric\n5 5 0\n");
+  Result r = run("order " + empty5 + " --ordering natural");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("nnz(A) = 0\n"), std::string::npos) << r.out;
+  const std::string partial = temp_file("partial.mtx", "%%MatrixMarket matrix coordinate real symmetric\n3 3 2\n1 1 2\n3 1 1\n");
+  r = run("order " + partial + " --ordering natural");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("nnz(A) = 3\n"), std::string::npos) << r.out;
+  // A full diagonal: bcsstk01 stores 224 entries below and on its 48-entry diagonal.
+  r = run("order " + kMatrices + "/bcsstk01.mtx --ordering natural");
+  const SymmetricCsc a = read_matrix_market(kMatrices + "/bcsstk01.mtx");
+  EXPECT_NE(r.out.find("nnz(A) = " + std::to_string(2 * a.nnz() - a.n) + "\n"), std::string::npos) << r.out;
+}
+
+// Class 8: the blocks file reader copied the offending line raw and whole into its message, which
+// main's last-resort cut ended mid-quote at 400 characters; the reader quotes it escaped and
+// bounded itself, and main keeps those escapes (it doubled their backslashes: \\x01).
+TEST(LdlpgsRobust, BlocksFileMessagesAreOneBoundedPrintableLine) {
+  std::string junk = "6\n\x01\x02" + std::string(100000, '9') + std::string("\0\x80\r", 3) + "\n";
+  const std::string blocks = temp_file("junk.blocks", junk);
+  const Result r = run("order " + kMatrices + "/bcsstk01.mtx --blocks " + blocks);
+  EXPECT_EQ(r.code, 2) << r.err.substr(0, 300);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
+  EXPECT_LT(r.err.size(), 600u) << r.err.substr(0, 600);
+  EXPECT_NE(r.err.find(blocks + ":2: "), std::string::npos) << r.err.substr(0, 600);
+  EXPECT_NE(r.err.find("got '\\x01\\x02999"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.err.ends_with("...'\n")) << r.err;  // the reader's own cut, the quote closed
+  for (char c : r.err.substr(0, r.err.size() - 1)) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "byte " << int(c);
+}
+
+// A diagonal or 2 x 2 matrix as a Matrix Market file, values to full precision.
+std::string small_matrix(const std::string& name, std::initializer_list<std::array<double, 3>> entries, int n) {
+  std::string text = "%%MatrixMarket matrix coordinate real symmetric\n" + std::to_string(n) + " " +
+                     std::to_string(n) + " " + std::to_string(entries.size()) + "\n";
+  for (const auto& [i, j, v] : entries) {
+    char line[80];
+    std::snprintf(line, sizeof line, "%d %d %.17g\n", static_cast<int>(i), static_cast<int>(j), v);
+    text += line;
+  }
+  return temp_file(name, text);
+}
+
+// Class 6: 1e-314 factored "ok" and solved to NaN, a positive definite 2 x 2 at 1e-320 was "not
+// finite, pivot -inf"; CHOLMOD solves both, and verify now agrees with it.
+TEST(LdlpgsRobust, VerifyAtTheEdgesOfDouble) {
+  for (const std::string& m : {small_matrix("tiny1.mtx", {{1, 1, 1e-314}}, 1),
+                               small_matrix("tiny2.mtx", {{1, 1, 2e-320}, {2, 2, 2e-320}, {2, 1, 1e-320}}, 2),
+                               small_matrix("huge2.mtx", {{1, 1, 2e307}, {2, 2, 2e307}, {2, 1, 1e307}}, 2)}) {
+    const Result r = run("verify " + m + " --json");
+    EXPECT_EQ(r.code, 0) << m << "\n" << r.out << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["status"], "ok") << m;
+    EXPECT_TRUE(j["verifiable"].get<bool>()) << m;
+    // cond_1 is 1 and 3 (Hager's estimate is a lower bound): not inf as ||A^-1|| alone is at 1e-314.
+    const double cond = j["condition_estimate"].get<double>();
+    EXPECT_TRUE(cond >= 1 && cond <= 3 + 1e-12) << m << ": " << cond;
+  }
+}
+
+// Class 6: a condition estimate that overflowed made the tolerance inf, and verify printed "agree"
+// (x 5.27 off); a finite one above 1 / eps makes a tolerance of 1 or more that checks no digit.
+TEST(LdlpgsRobust, VerifyNeverAgreesOnAToleranceThatChecksNothing) {
+  for (int e : {500, 750}) {  // cond_1 = 2^1000 (tolerance 2e285), 2^1500 (estimate inf)
+    const double big = std::ldexp(1.0, e);
+    const std::string m = small_matrix("cond" + std::to_string(e) + ".mtx", {{1, 1, big}, {2, 2, 1 / big}}, 2);
+    Result r = run("verify " + m);
+    EXPECT_EQ(r.code, 1) << r.out << r.err;
+    EXPECT_NE(r.out.find("CANNOT VERIFY"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("agree"), std::string::npos) << r.out;
+    r = run("verify " + m + " --json");
+    EXPECT_EQ(r.code, 1) << r.out << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_FALSE(j["ok"].get<bool>());
+    EXPECT_FALSE(j["verifiable"].get<bool>());
+  }
 }
 }  // namespace
 }  // namespace ldlpgs

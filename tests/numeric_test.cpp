@@ -425,5 +425,118 @@ TEST(NumericMisuse, PartitionThatDoesNotCoverTheRowsThrows) {
   const SymmetricCsc b = csc_from_triplets(6, std::vector<Triplet>{{0, 0, 1}, {5, 5, 1}});
   EXPECT_THROW(Symbolic::analyze(a, BlockPattern::unit(b), std::vector<int>{0, 1, 2, 3, 4, 5}), ArgumentError);
 }
+
+// issue 14: readers, numerics and messages
+
+// a with every stored entry times 2^k (ldexp: exact unless it lands among the subnormals).
+SymmetricCsc scaled(SymmetricCsc a, int k) {
+  for (double& x : a.values) x = std::ldexp(x, k);
+  return a;
+}
+
+// Factors a with each partition in {unit, one block} and, if the factorization is usable, solves
+// A x = b for b = A (1, -1, ...)^T. The reference is dense Eigen on S A S, S = diag(2^-ilogb(a_ii)/2):
+// the same matrix equilibrated by powers of two (exact, subnormals scale up without rounding),
+// whose diagonal is near 1 where Eigen's LDL^T works; x_ref = S (S A S)^-1 S b. Returns the
+// statuses seen.
+std::vector<FactorStatus> factor_and_compare(const SymmetricCsc& a, const std::string& what) {
+  const Eigen::MatrixXd dense = testing::dense(a);
+  Eigen::VectorXd x_true(a.n);
+  for (int i = 0; i < a.n; ++i) x_true[i] = i % 2 ? -1.0 : 1.0;
+  const Eigen::VectorXd b = dense * x_true;
+  std::vector<int> half(a.n);
+  for (int i = 0; i < a.n; ++i) half[i] = -std::ilogb(dense(i, i)) / 2;
+  Eigen::MatrixXd equilibrated = dense;
+  Eigen::VectorXd b_equilibrated = b;
+  for (int i = 0; i < a.n; ++i) {
+    b_equilibrated[i] = std::ldexp(b[i], half[i]);
+    for (int j = 0; j < a.n; ++j) equilibrated(i, j) = std::ldexp(dense(i, j), half[i] + half[j]);
+  }
+  Eigen::VectorXd x_ref = equilibrated.ldlt().solve(b_equilibrated);
+  for (int i = 0; i < a.n; ++i) x_ref[i] = std::ldexp(x_ref[i], half[i]);
+  std::vector<FactorStatus> statuses;
+  for (const std::vector<int>& sizes : {std::vector<int>(a.n, 1), std::vector<int>{a.n}}) {
+    const BlockPattern blocks = BlockPattern::from_scalar(a, sizes);
+    const Symbolic s = analyze(a, blocks);
+    Numeric f(s);
+    const FactorInfo info = f.factorize(a);
+    statuses.push_back(info.status);
+    if (!info.usable()) continue;
+    std::vector<double> x(b.data(), b.data() + a.n);
+    f.solve(x);
+    const double diff = (to_eigen(x) - x_ref).lpNorm<Eigen::Infinity>() / x_ref.lpNorm<Eigen::Infinity>();
+    EXPECT_LE(diff, 1e-12) << what << ", " << sizes.size() << " blocks: " << info.message()
+                           << ", x[0] = " << x[0];
+  }
+  return statuses;
+}
+
+// Class 6: 1e-314 (subnormal) factored "ok" and solved to NaN (1/1e-314 overflows); a positive
+// definite 2 x 2 at 1e-320 was "not finite, pivot -inf" (1e-12 |H_rr| underflows to 0, the
+// reciprocal of the first pivot is inf). The class: any positive definite matrix scaled by any
+// power of two whose entries stay finite factors ok and solves to the reference.
+TEST(Numeric, PositiveDefiniteAtEveryScaleOfDoubleFactorsAndSolves) {
+  const SymmetricCsc one = csc_from_triplets(1, std::vector<Triplet>{{0, 0, 1e-314}});
+  EXPECT_EQ(factor_and_compare(one, "1e-314"), std::vector<FactorStatus>(2, FactorStatus::ok));
+  const SymmetricCsc two = csc_from_triplets(2, std::vector<Triplet>{{0, 0, 2e-320}, {1, 1, 2e-320}, {1, 0, 1e-320}});
+  EXPECT_EQ(factor_and_compare(two, "2x2 at 1e-320"), std::vector<FactorStatus>(2, FactorStatus::ok));
+  const SymmetricCsc chain = mechanism_matrix(make_family("chain", 3), 1, 0.0);
+  for (const SymmetricCsc& a : {small_spd(), chain}) {
+    for (int k : {-1060, -1040, -1000, -700, -300, 300, 700, 1000}) {
+      EXPECT_EQ(factor_and_compare(scaled(a, k), std::to_string(a.n) + " rows at 2^" + std::to_string(k)),
+                std::vector<FactorStatus>(2, FactorStatus::ok));
+    }
+  }
+}
+
+// Rows of very different scales in one matrix: diag(1, 2^-1050) is solvable (scaled into range);
+// diag(2^1000, 2^-1070) spans more than double's exponent range, and the tiny pivot's reciprocal
+// overflows at any scale that keeps 2^1000 finite: reported as a zero pivot, never "ok" with a
+// non-finite solution.
+TEST(Numeric, SubnormalPivotIsScaledOrReported) {
+  const SymmetricCsc mixed = csc_from_triplets(2, std::vector<Triplet>{{0, 0, 1.0}, {1, 1, std::ldexp(1.0, -1050)}});
+  EXPECT_EQ(factor_and_compare(mixed, "diag(1, 2^-1050)"), std::vector<FactorStatus>(2, FactorStatus::ok));
+  const SymmetricCsc wide = csc_from_triplets(2, std::vector<Triplet>{{0, 0, std::ldexp(1.0, 1000)}, {1, 1, std::ldexp(1.0, -1070)}});
+  const Symbolic s = analyze(wide, BlockPattern::unit(wide));
+  Numeric f(s);
+  const FactorInfo info = f.factorize(wide);
+  EXPECT_EQ(info.status, FactorStatus::zero_pivot) << info.message();
+  EXPECT_EQ(info.row, 1) << info.message();
+  EXPECT_EQ(info.pivot, std::ldexp(1.0, -1070)) << "the pivot at the matrix's own scale";
+}
+
+// The condition estimate is ||A||_1 ||A^-1||_1: at 1e-314 the second factor alone overflows
+// (1e314), so verify printed cond inf and a tolerance of inf. It is scale-invariant.
+TEST(Verify, ConditionEstimateIsScaleInvariant) {
+  const SymmetricCsc a = small_spd();
+  const BlockPattern blocks = BlockPattern::unit(a);
+  const Ordering o = compute_ordering(find_ordering("natural"), blocks, a);
+  const double cond = verify_against_cholmod(a, blocks, o).condition_estimate;
+  ASSERT_TRUE(std::isfinite(cond) && cond > 1);
+  for (int k : {-1060, -1040, -700, 700, 1000}) {
+    const Verification v = verify_against_cholmod(scaled(a, k), blocks, o);
+    EXPECT_NEAR(v.condition_estimate, cond, 1e-3 * cond) << "2^" << k;
+    EXPECT_EQ(v.info.status, FactorStatus::ok) << "2^" << k;
+  }
+}
+
+// Class 6: verify reported agreement on a tolerance it could not compute (cond estimate inf, so
+// tolerance inf, "agree" with x 5.27 off); a tolerance of 1 or more (cond_1 >= 4.5e15) verifies
+// no digit either. Both are "cannot verify", not agreement.
+TEST(Verify, NoAgreementOnAToleranceThatVerifiesNothing) {
+  // cond = 2^1000 (finite, > 1 / eps) and cond = 2^1500 (estimate overflows).
+  for (int e : {1000, 1500}) {
+    const double big = std::ldexp(1.0, e / 2);
+    const SymmetricCsc a = csc_from_triplets(2, std::vector<Triplet>{{0, 0, big}, {1, 1, 1 / big}});
+    const BlockPattern blocks = BlockPattern::unit(a);
+    const Verification v = verify_against_cholmod(a, blocks, compute_ordering(find_ordering("natural"), blocks, a));
+    EXPECT_FALSE(v.ok) << "cond 2^" << e << ", tolerance " << v.factor_tolerance;
+    EXPECT_FALSE(v.verifiable) << "cond 2^" << e;
+  }
+  const SymmetricCsc a = small_spd();
+  const BlockPattern blocks = BlockPattern::unit(a);
+  const Verification v = verify_against_cholmod(a, blocks, compute_ordering(find_ordering("meca"), blocks, a));
+  EXPECT_TRUE(v.verifiable && v.ok);
+}
 }  // namespace
 }  // namespace ldlpgs
