@@ -64,9 +64,10 @@ std::string format_vector(std::span<const double> v) {
   return s;
 }
 
-// A name in quotes, escaped as JSON: one line whatever it holds (invalid UTF-8 replaced).
+// A name in quotes, escaped as JSON: one line of printable ASCII whatever it holds (ensure_ascii:
+// DEL and non-ASCII as \uXXXX, invalid UTF-8 as \ufffd; they went in raw before, issue 14).
 std::string in_quotes(std::string_view s) {
-  return json(std::string(s)).dump(-1, ' ', false, json::error_handler_t::replace);
+  return json(std::string(s)).dump(-1, ' ', true, json::error_handler_t::replace);
 }
 
 // A JSON value as it appears in a message: one line, at most 60 characters, cut with "...".

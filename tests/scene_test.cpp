@@ -646,5 +646,20 @@ TEST(Scene, SyntaxErrorMessageIsBoundedAndPrintable) {
   EXPECT_LT(message.size(), 400u) << message.substr(0, 400);
   for (char c : message) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "byte " << int(c);
 }
+
+// issue 14: readers, numerics and messages
+// Found by fuzz/scene_fuzz.cpp: names and keys were quoted as JSON without ensure_ascii, so DEL,
+// UTF-8 and invalid bytes (replaced by a raw U+FFFD) went into the message unescaped.
+TEST(SceneBadInput, NamesAndKeysAreQuotedInPrintableAscii) {
+  for (const std::string key : {std::string("positi\x7fn"), std::string("pos\xc3\xa9"), std::string("p\xff\xfe")}) {
+    const std::string path = temp_file("key.json", "{\"name\": \"k\", \"bodies\": [{\"name\": \"g\", \"static\": true, \"" + key +
+                                                       "\": [0, 0, 0]}], \"constraints\": []}");
+    const std::string message = file_error_of(path);
+    EXPECT_NE(message.find(key.find('\xff') != std::string::npos ? "invalid JSON" : "unknown key \"pos"), std::string::npos) << message;
+    for (char c : message) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "byte " << int(c) << " in " << message;
+  }
+  const std::string message = error_of(json::parse(R"({"name": "u", "bodies": [{"name": "\u00e9\u007f", "mass": 0}]})"));
+  for (char c : message) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "byte " << int(c) << " in " << message;
+}
 }  // namespace
 }  // namespace ldlpgs
