@@ -65,9 +65,13 @@ std::string format_vector(std::span<const double> v) {
 }
 
 // A name in quotes, escaped as JSON: one line of printable ASCII whatever it holds (ensure_ascii:
-// DEL and non-ASCII as \uXXXX, invalid UTF-8 as \ufffd; they went in raw before, issue 14).
+// DEL and non-ASCII as \uXXXX, invalid UTF-8 as \ufffd; they went in raw before), and at most
+// 48 bytes of it, then "..." (a 100 KB unknown key made a 100 KB message: issue 14).
 std::string in_quotes(std::string_view s) {
-  return json(std::string(s)).dump(-1, ' ', true, json::error_handler_t::replace);
+  constexpr size_t kMax = 48;
+  std::string quoted = json(std::string(s.substr(0, kMax))).dump(-1, ' ', true, json::error_handler_t::replace);
+  if (s.size() > kMax) quoted += "...";
+  return quoted;
 }
 
 // A JSON value as it appears in a message: one line, at most 60 characters, cut with "...".

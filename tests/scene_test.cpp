@@ -651,7 +651,7 @@ TEST(Scene, SyntaxErrorMessageIsBoundedAndPrintable) {
 // Found by fuzz/scene_fuzz.cpp: names and keys were quoted as JSON without ensure_ascii, so DEL,
 // UTF-8 and invalid bytes (replaced by a raw U+FFFD) went into the message unescaped.
 TEST(SceneBadInput, NamesAndKeysAreQuotedInPrintableAscii) {
-  for (const std::string key : {std::string("positi\x7fn"), std::string("pos\xc3\xa9"), std::string("p\xff\xfe")}) {
+  for (const std::string& key : {std::string("positi\x7fn"), std::string("pos\xc3\xa9"), std::string("p\xff\xfe")}) {
     const std::string path = temp_file("key.json", "{\"name\": \"k\", \"bodies\": [{\"name\": \"g\", \"static\": true, \"" + key +
                                                        "\": [0, 0, 0]}], \"constraints\": []}");
     const std::string message = file_error_of(path);
@@ -660,6 +660,18 @@ TEST(SceneBadInput, NamesAndKeysAreQuotedInPrintableAscii) {
   }
   const std::string message = error_of(json::parse(R"({"name": "u", "bodies": [{"name": "\u00e9\u007f", "mass": 0}]})"));
   for (char c : message) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "byte " << int(c) << " in " << message;
+}
+
+// Found by fuzz/scene_fuzz.cpp: a quoted key or name was not bounded (a 100 KB unknown key, a
+// 100 KB message; escaped DEL bytes take six characters each).
+TEST(SceneBadInput, LongKeysAndNamesAreQuotedBounded) {
+  const std::string key(100000, '\x7f'), name(100000, 'n');
+  std::string message = file_error_of(temp_file("long_key.json", "{\"name\": \"k\", \"gra" + key + "\": 1}"));
+  EXPECT_LT(message.size(), 500u) << message.substr(0, 500);
+  EXPECT_NE(message.find("unknown key \"gra\\u007f"), std::string::npos) << message.substr(0, 500);
+  EXPECT_NE(message.find("\"... ("), std::string::npos) << message.substr(0, 500);
+  message = error_of(json::parse("{\"name\": \"u\", \"bodies\": [{\"name\": \"" + name + "\", \"mass\": 0}]}"));
+  EXPECT_LT(message.size(), 300u) << message.substr(0, 500);
 }
 }  // namespace
 }  // namespace ldlpgs
