@@ -3,6 +3,10 @@
 # ./build.sh report  the same set-up (and python3-matplotlib, python3-markdown for the figures), then
 #                    the main job: build/bin/ldlpgs report (writes report/index.md and index.html)
 # ./build.sh build   set-up and build only
+# ./build.sh fuzz [SECONDS]  clang, the libraries under libFuzzer + ASan + UBSan into build-fuzz/,
+#                    then each target of fuzz/ for SECONDS (default 60) on a scratch copy of its
+#                    seed corpus fuzz/corpus/<target>; fails on any finding (kept in
+#                    build-fuzz/findings/, the log in build-fuzz/fuzz_<target>.log)
 # Environment: BUILD_DIR (default build), SANITIZE=1 (AddressSanitizer + UBSan build),
 #              JOBS (default: number of cores).
 set -euo pipefail
@@ -50,8 +54,40 @@ build() {
   cmake --build "$dir" -j "${JOBS:-$(nproc)}"
 }
 
+fuzz_targets=(matrix_market partition scene factor)
+
+fuzz() {
+  # Only what the libraries need: the fuzz build has no program, tests, peers, MuJoCo or Python.
+  install_missing cmake make clang libclang-rt-14-dev libsuitesparse-dev libmetis-dev libeigen3-dev nlohmann-json3-dev
+  local dir=${BUILD_DIR:-build-fuzz} seconds=${1:-60} failed=0
+  CC=clang CXX=clang++ cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLDLPGS_BUILD_FUZZ=ON \
+    -DLDLPGS_BUILD_CLI=OFF -DLDLPGS_BUILD_TESTS=OFF -DLDLPGS_BUILD_BENCH=OFF -DLDLPGS_BUILD_PEERS=OFF \
+    -DLDLPGS_BUILD_PYTHON=OFF -DLDLPGS_WITH_MUJOCO=OFF -DLDLPGS_INSTALL=OFF
+  cmake --build "$dir" -j "${JOBS:-$(nproc)}"
+  mkdir -p "$dir/findings"
+  for t in "${fuzz_targets[@]}"; do
+    # libFuzzer adds what it finds to the corpus directory: a scratch copy keeps the tree clean.
+    local scratch dict=()
+    scratch=$(mktemp -d)
+    cp fuzz/corpus/"$t"/* "$scratch"/
+    [ -f fuzz/"$t".dict ] && dict=(-dict=fuzz/"$t".dict)
+    echo "build.sh fuzz: $t for ${seconds} s"
+    if "$dir/bin/fuzz_$t" "$scratch" "${dict[@]}" -max_total_time="$seconds" -timeout=30 -rss_limit_mb=2048 \
+         -print_final_stats=1 -artifact_prefix="$dir/findings/$t-" >"$dir/fuzz_$t.log" 2>&1; then
+      grep -h "stat::number_of_executed_units" "$dir/fuzz_$t.log" || true
+    else
+      failed=1
+      echo "build.sh fuzz: $t FOUND A FAILURE (input in $dir/findings/, log $dir/fuzz_$t.log):" >&2
+      grep -v "^#" "$dir/fuzz_$t.log" | tail -40 >&2
+    fi
+    rm -rf "$scratch"
+  done
+  return $failed
+}
+
 case "$cmd" in
   build) build ;;
+  fuzz) fuzz "$@" ;;
   test)
     build
     ctest --test-dir "${BUILD_DIR:-build}" --output-on-failure -j "${JOBS:-$(nproc)}" "$@"
@@ -62,5 +98,5 @@ case "$cmd" in
     build
     "${BUILD_DIR:-build}/bin/ldlpgs" report "$@"
     ;;
-  *) echo "usage: ./build.sh test|report|build" >&2; exit 2 ;;
+  *) echo "usage: ./build.sh test|report|build|fuzz [SECONDS]" >&2; exit 2 ;;
 esac
