@@ -311,6 +311,7 @@ void bind_factor(py::module_& m) {
         t["factor"] = number(v.factor_tolerance);
         t["backward"] = v.tolerance.backward;
         d["tolerance"] = t;
+        d["verifiable"] = v.verifiable;
         d["ok"] = v.ok;
         return d;
       },
