@@ -426,15 +426,21 @@ class DuplicateKeyCheck {
     std::set<std::string> keys;  // objects: the keys seen
   };
 
-  // Where the innermost open object is, as messages name entries ("bodies[2]").
+  // Where the innermost open object is, as messages name entries ("bodies[2]"): keys escaped
+  // (printable()), and cut after 200 characters (the depth is the input's: issue 14).
   std::string path() const {
+    constexpr size_t kMax = 200;
     std::string p;
     for (size_t i = 0; i + 1 < stack_.size(); ++i) {
+      if (p.size() > kMax) {
+        p += "...";
+        break;
+      }
       if (stack_[i].is_array) {
         p += cat("[", std::to_string(stack_[i].index), "]");
       } else {
         if (!p.empty()) p += ".";
-        p += stack_[i].key;
+        p += printable(stack_[i].key, 48);
       }
     }
     return p;

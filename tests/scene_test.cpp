@@ -673,5 +673,17 @@ TEST(SceneBadInput, LongKeysAndNamesAreQuotedBounded) {
   message = error_of(json::parse("{\"name\": \"u\", \"bodies\": [{\"name\": \"" + name + "\", \"mass\": 0}]}"));
   EXPECT_LT(message.size(), 300u) << message.substr(0, 500);
 }
+
+// Found by fuzz/scene_fuzz.cpp: a duplicate key's location copied the keys on its way raw (a DEL
+// byte went into the message) and without bound (4000 levels of nesting, a 12 KB location).
+TEST(SceneBadInput, DuplicateKeyLocationIsBoundedAndPrintable) {
+  std::string message = file_error_of(temp_file("dup.json", "{\"b\x7f\": [{\"static\": 1, \"static\": 2}]}"));
+  EXPECT_NE(message.find("b\\x7f[0]: duplicate key \"static\""), std::string::npos) << message;
+  for (char c : message) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "byte " << int(c) << " in " << message;
+  const std::string deep = std::string(4000, '[') + "{\"a\": 1, \"a\": 2}" + std::string(4000, ']');
+  message = file_error_of(temp_file("dup_deep.json", "{\"bodies\": " + deep + "}"));
+  EXPECT_LT(message.size(), 400u) << message.substr(0, 400);
+  EXPECT_NE(message.find("duplicate key \"a\""), std::string::npos) << message.substr(0, 400);
+}
 }  // namespace
 }  // namespace ldlpgs
