@@ -64,7 +64,7 @@ fuzz() {
     -DLDLPGS_BUILD_CLI=OFF -DLDLPGS_BUILD_TESTS=OFF -DLDLPGS_BUILD_BENCH=OFF -DLDLPGS_BUILD_PEERS=OFF \
     -DLDLPGS_BUILD_PYTHON=OFF -DLDLPGS_WITH_MUJOCO=OFF -DLDLPGS_INSTALL=OFF
   cmake --build "$dir" -j "${JOBS:-$(nproc)}"
-  mkdir -p "$dir/findings"
+  rm -rf "$dir/findings" && mkdir -p "$dir/findings"  # this run's findings only
   for t in "${fuzz_targets[@]}"; do
     # libFuzzer adds what it finds to the corpus directory: a scratch copy keeps the tree clean.
     local scratch dict=()
