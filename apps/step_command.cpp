@@ -202,6 +202,39 @@ int run_step(const StepArgs& a) {
   return failed || !finite ? 1 : 0;
 }
 
+// What export writes must be finite. check_ranges (physics/mechanism.h) keeps W, J and H finite
+// for every mechanism the readers accept; this is the last check before writing, naming the
+// body or constraint whose entries are not (InputError: the input made them).
+void check_finite_export(const std::string& scene, const Mechanism& m, const System& s, const SymmetricCsc& h,
+                         const std::vector<int>& sizes) {
+  auto finite = [](const double* p, size_t n) { return std::all_of(p, p + n, [](double x) { return std::isfinite(x); }); };
+  auto fail = [&](const std::string& what) {
+    std::string message = printable(scene);
+    message += ": ";
+    message += what;
+    message += ": not finite in the exported H = J W J^T (nothing written)";
+    throw InputError(message);
+  };
+  for (size_t b = 0, column = 0; b < m.bodies.size(); ++b) {
+    if (m.bodies[b].is_static) continue;
+    if (!finite(s.inverse_mass.data() + 36 * column++, 36)) fail("W of " + body_label(m, static_cast<int>(b)));
+  }
+  for (size_t k = 0; k < s.blocks.size(); ++k)
+    if (!finite(s.cell_a(static_cast<int>(k)), 12 * static_cast<size_t>(s.blocks[k].size))) fail("J of " + constraint_label(m, static_cast<int>(k)));
+  // H's row -> its equality block -> the constraint (the equality constraints in order)
+  std::vector<size_t> equality;  // (size equality constraints)
+  for (size_t k = 0; k < m.constraints.size(); ++k)
+    if (is_equality(m.constraints[k].type)) equality.push_back(k);
+  for (int j = 0; j < h.n; ++j)
+    for (int p = h.col_ptr[j]; p < h.col_ptr[j + 1]; ++p) {
+      if (std::isfinite(h.values[p])) continue;
+      int row = h.row_idx[p];
+      size_t block = 0;
+      while (row >= sizes[block]) row -= sizes[block++];
+      fail("H on the rows of " + constraint_label(m, static_cast<int>(equality[block])));
+    }
+}
+
 }  // namespace
 
 Command add_step_command(CLI::App& app) {
@@ -257,7 +290,9 @@ Command add_export_command(CLI::App& app) {
     StepOptions options;
     options.compliance = a->compliance;
     std::vector<int> sizes;
-    const SymmetricCsc h = equality_matrix(build_system(m, options), &sizes);
+    const System system = build_system(m, options);
+    const SymmetricCsc h = equality_matrix(system, &sizes);
+    check_finite_export(a->scene, m, system, h, sizes);
     write_matrix_market(a->matrix, h);
     std::ofstream out(a->blocks);
     if (!out) throw InputError(a->blocks + ": cannot write the block sizes");
