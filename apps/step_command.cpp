@@ -120,7 +120,8 @@ int run_step(const StepArgs& a) {
   StepReport worst;  // maxima over the steps
   int64_t post_iterations = 0;
   int failed = 0;
-  std::string failure;
+  std::string failure, came_apart;  // the first failed factorization; the first step run_failure refuses
+  const double size = mechanism_size(original);
   for (int s = 1; s <= a.steps; ++s) {
     const StepReport r = sim.step();
     solve_us.push_back(r.solve_us);
@@ -134,6 +135,14 @@ int run_step(const StepArgs& a) {
     worst.error.angular_rms = std::max(worst.error.angular_rms, r.error.angular_rms);
     worst.velocity_residual = std::max(worst.velocity_residual, r.velocity_residual);
     if (!r.result.ok() && failed++ == 0) failure = "step " + std::to_string(s) + ": " + r.result.factor.message();
+    if (came_apart.empty()) {
+      if (std::string why = run_failure(r, size); !why.empty()) {
+        came_apart = "step ";
+        came_apart += std::to_string(s);
+        came_apart += ": ";
+        came_apart += why;
+      }
+    }
     if (trace.is_open()) write_trace_rows(trace, s, sim, original, shattered);
   }
   const Mechanism& end = sim.mechanism();
@@ -173,7 +182,8 @@ int run_step(const StepArgs& a) {
                         {"velocity_residual_max", worst.velocity_residual},
                         {"energy_initial_j", energy_initial},
                         {"energy_final_j", finite ? nlohmann::json(energy_final) : nlohmann::json(nullptr)},
-                        {"failed_steps", failed}};
+                        {"failed_steps", failed},
+                        {"failure", came_apart.empty() ? nlohmann::json(nullptr) : nlohmann::json(came_apart)}};
     print_json(json_header("step", std::move(j)));
   } else {
     std::printf("%s: %zu bodies, %zu constraints, %d rows; %s, %d iterations, %d steps of %g s\n", end.name.c_str(),
@@ -198,8 +208,10 @@ int run_step(const StepArgs& a) {
     std::printf("energy                initial %.6g J, final %.6g J\n", energy_initial, energy_final);
   }
   if (failed) std::fprintf(stderr, "ldlpgs: %d steps failed to factor; first: %s\n", failed, failure.c_str());
-  if (!finite) std::fprintf(stderr, "ldlpgs: the simulation blew up (non-finite state)\n");
-  return failed || !finite ? 1 : 0;
+  // A run that came apart or blew up exits 1 with the first step's reason (physics/step.h).
+  if (!finite && came_apart.empty()) came_apart = "the final state is not finite";
+  if (!came_apart.empty()) std::fprintf(stderr, "ldlpgs: the simulation blew up: %s\n", came_apart.c_str());
+  return failed || !came_apart.empty() ? 1 : 0;
 }
 
 // What export writes must be finite. check_ranges (physics/mechanism.h) keeps W, J and H finite
