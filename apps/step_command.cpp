@@ -89,6 +89,7 @@ int run_step(const StepArgs& a) {
   if (a.timestep != 0) {
     if (!(a.timestep > 0) || !std::isfinite(a.timestep)) throw InputError("--timestep must be positive");
     original.timestep = a.timestep;
+    check_ranges(original, "--timestep");  // MechanismRanges' timestep, as a scene file's
   }
   const ShatterResult shattered = shatter_as_told(original, a.shatter, a.ordering);
   Mechanism m = shattered.mechanism;

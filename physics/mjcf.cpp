@@ -139,13 +139,19 @@ Matrix3d frame_from(const Vector3d& x) {
   return f;
 }
 
-// "path: what: problem", the path escaped and bounded.
+// "path: what: problem", the path escaped and bounded; `what` and `problem` hold names already
+// escaped, but as many as the body has joints: cut too.
 [[noreturn]] void refuse_model(const std::string& path, const std::string& what, const std::string& problem) {
+  auto cut = [](std::string text) {
+    constexpr size_t kMax = 300;
+    if (text.size() > kMax) text.replace(kMax, std::string::npos, "...");
+    return text;
+  };
   std::string s = printable(path);
   s += ": ";
-  s += what;
+  s += cut(what);
   s += ": ";
-  s += problem;
+  s += cut(problem);
   throw InputError(s);
 }
 

@@ -526,7 +526,10 @@ TEST(LdlpgsRobust, MjcfMessagesAreOneBoundedPrintableLine) {
       "slides.xml", "<mujoco><worldbody><body name=\"" + long_name + "&#10;&#7;\"><joint type=\"slide\" axis=\"1 0 0\"/>"
                     "<joint type=\"slide\" axis=\"0 1 0\"/>" + kBody + "</body></worldbody></mujoco>");
   const std::string broken = temp_file("broken.xml", "<mujoco><worldbody><body name=\"" + long_name + "\x01\">" + long_name);
-  for (const std::string& path : {slides, broken}) {
+  std::string joints;  // 200 slides of long names: the refusal lists them all
+  for (int j = 0; j < 200; ++j) joints += "<joint name=\"" + long_name.substr(0, 70) + std::to_string(j) + "\" type=\"slide\"/>";
+  const std::string many = temp_file("many.xml", "<mujoco><worldbody><body>" + joints + kBody + "</body></worldbody></mujoco>");
+  for (const std::string& path : {slides, broken, many}) {
     const std::string message = load_error(path);
     ASSERT_FALSE(message.empty());
     EXPECT_LT(message.size(), 1000u) << message.size();
