@@ -89,6 +89,7 @@ int run_step(const StepArgs& a) {
   if (a.timestep != 0) {
     if (!(a.timestep > 0) || !std::isfinite(a.timestep)) throw InputError("--timestep must be positive");
     original.timestep = a.timestep;
+    check_ranges(original, "--timestep");  // MechanismRanges' timestep, as a scene file's
   }
   const ShatterResult shattered = shatter_as_told(original, a.shatter, a.ordering);
   Mechanism m = shattered.mechanism;
@@ -120,7 +121,8 @@ int run_step(const StepArgs& a) {
   StepReport worst;  // maxima over the steps
   int64_t post_iterations = 0;
   int failed = 0;
-  std::string failure;
+  std::string failure, came_apart;  // the first failed factorization; the first step run_failure refuses
+  const double size = mechanism_size(original);
   for (int s = 1; s <= a.steps; ++s) {
     const StepReport r = sim.step();
     solve_us.push_back(r.solve_us);
@@ -134,6 +136,14 @@ int run_step(const StepArgs& a) {
     worst.error.angular_rms = std::max(worst.error.angular_rms, r.error.angular_rms);
     worst.velocity_residual = std::max(worst.velocity_residual, r.velocity_residual);
     if (!r.result.ok() && failed++ == 0) failure = "step " + std::to_string(s) + ": " + r.result.factor.message();
+    if (came_apart.empty()) {
+      if (std::string why = run_failure(r, size); !why.empty()) {
+        came_apart = "step ";
+        came_apart += std::to_string(s);
+        came_apart += ": ";
+        came_apart += why;
+      }
+    }
     if (trace.is_open()) write_trace_rows(trace, s, sim, original, shattered);
   }
   const Mechanism& end = sim.mechanism();
@@ -173,7 +183,8 @@ int run_step(const StepArgs& a) {
                         {"velocity_residual_max", worst.velocity_residual},
                         {"energy_initial_j", energy_initial},
                         {"energy_final_j", finite ? nlohmann::json(energy_final) : nlohmann::json(nullptr)},
-                        {"failed_steps", failed}};
+                        {"failed_steps", failed},
+                        {"failure", came_apart.empty() ? nlohmann::json(nullptr) : nlohmann::json(came_apart)}};
     print_json(json_header("step", std::move(j)));
   } else {
     std::printf("%s: %zu bodies, %zu constraints, %d rows; %s, %d iterations, %d steps of %g s\n", end.name.c_str(),
@@ -198,8 +209,43 @@ int run_step(const StepArgs& a) {
     std::printf("energy                initial %.6g J, final %.6g J\n", energy_initial, energy_final);
   }
   if (failed) std::fprintf(stderr, "ldlpgs: %d steps failed to factor; first: %s\n", failed, failure.c_str());
-  if (!finite) std::fprintf(stderr, "ldlpgs: the simulation blew up (non-finite state)\n");
-  return failed || !finite ? 1 : 0;
+  // A run that came apart or blew up exits 1 with the first step's reason (physics/step.h).
+  if (!finite && came_apart.empty()) came_apart = "the final state is not finite";
+  if (!came_apart.empty()) std::fprintf(stderr, "ldlpgs: the simulation blew up: %s\n", came_apart.c_str());
+  return failed || !came_apart.empty() ? 1 : 0;
+}
+
+// What export writes must be finite. check_ranges (physics/mechanism.h) keeps W, J and H finite
+// for every mechanism the readers accept; this is the last check before writing, naming the
+// body or constraint whose entries are not (InputError: the input made them).
+void check_finite_export(const std::string& scene, const Mechanism& m, const System& s, const SymmetricCsc& h,
+                         const std::vector<int>& sizes) {
+  auto finite = [](const double* p, size_t n) { return std::all_of(p, p + n, [](double x) { return std::isfinite(x); }); };
+  auto fail = [&](const std::string& what) {
+    std::string message = printable(scene);
+    message += ": ";
+    message += what;
+    message += ": not finite in the exported H = J W J^T (nothing written)";
+    throw InputError(message);
+  };
+  for (size_t b = 0, column = 0; b < m.bodies.size(); ++b) {
+    if (m.bodies[b].is_static) continue;
+    if (!finite(s.inverse_mass.data() + 36 * column++, 36)) fail("W of " + body_label(m, static_cast<int>(b)));
+  }
+  for (size_t k = 0; k < s.blocks.size(); ++k)
+    if (!finite(s.cell_a(static_cast<int>(k)), 12 * static_cast<size_t>(s.blocks[k].size))) fail("J of " + constraint_label(m, static_cast<int>(k)));
+  // H's row -> its equality block -> the constraint (the equality constraints in order)
+  std::vector<size_t> equality;  // (size equality constraints)
+  for (size_t k = 0; k < m.constraints.size(); ++k)
+    if (is_equality(m.constraints[k].type)) equality.push_back(k);
+  for (int j = 0; j < h.n; ++j)
+    for (int p = h.col_ptr[j]; p < h.col_ptr[j + 1]; ++p) {
+      if (std::isfinite(h.values[p])) continue;
+      int row = h.row_idx[p];
+      size_t block = 0;
+      while (row >= sizes[block]) row -= sizes[block++];
+      fail("H on the rows of " + constraint_label(m, static_cast<int>(equality[block])));
+    }
 }
 
 }  // namespace
@@ -257,7 +303,9 @@ Command add_export_command(CLI::App& app) {
     StepOptions options;
     options.compliance = a->compliance;
     std::vector<int> sizes;
-    const SymmetricCsc h = equality_matrix(build_system(m, options), &sizes);
+    const System system = build_system(m, options);
+    const SymmetricCsc h = equality_matrix(system, &sizes);
+    check_finite_export(a->scene, m, system, h, sizes);
     write_matrix_market(a->matrix, h);
     std::ofstream out(a->blocks);
     if (!out) throw InputError(a->blocks + ": cannot write the block sizes");

@@ -2,7 +2,11 @@
 #include "ldlpgs/physics/mechanism.h"
 
 #include <cassert>
+#include <cmath>
 #include <utility>
+
+#include "ldlpgs/physics/scene.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 
@@ -87,6 +91,82 @@ std::vector<std::pair<int, int>> Mechanism::body_graph() const {
   edges.reserve(constraints.size());
   for (const Constraint& c : constraints) edges.emplace_back(c.body_a, c.body_b);
   return edges;
+}
+
+std::string body_label(const Mechanism& m, int body) {
+  std::string s = "body \"";
+  s += printable(m.bodies[body].name, 80);
+  s += "\"";
+  return s;
+}
+
+std::string constraint_label(const Mechanism& m, int constraint) {
+  const Constraint& c = m.constraints[constraint];
+  std::string s = "constraint ";
+  s += std::to_string(constraint);
+  s += " (";
+  s += to_string(c.type);
+  s += " between ";
+  s += body_label(m, c.body_a);
+  s += " and ";
+  s += body_label(m, c.body_b);
+  s += ")";
+  return s;
+}
+
+void check_ranges(const Mechanism& m, const std::string& source) {
+  using R = MechanismRanges;
+  // |x| <= max and, when min > 0, x >= min (false for NaN)
+  auto within = [](double x, double min, double max) { return min > 0 ? x >= min && x <= max : std::abs(x) <= max; };
+  auto fail = [&](const std::string& what, const char* quantity, double x, double min, double max, const char* unit) {
+    std::string s = printable(source);
+    s += ": ";
+    s += what;
+    s += ": ";
+    s += quantity;
+    s += " ";
+    s += format_number(x);
+    s += min > 0 ? " outside [" : " beyond +-";
+    if (min > 0) {
+      s += format_number(min);
+      s += ", ";
+    }
+    s += format_number(max);
+    s += min > 0 ? "] " : " ";
+    s += unit;
+    s += " (physics/mechanism.h: MechanismRanges; beyond them what is computed from it overflows)";
+    throw InputError(s);
+  };
+  auto check = [&](const std::string& what, const char* quantity, double x, double min, double max, const char* unit) {
+    if (!within(x, min, max)) fail(what, quantity, x, min, max, unit);
+  };
+  auto check3 = [&](const std::string& what, const char* quantity, const Eigen::Vector3d& v, double min, double max,
+                    const char* unit) {
+    for (int k = 0; k < 3; ++k) check(what, quantity, v[k], min, max, unit);
+  };
+  check("timestep", "timestep", m.timestep, R::timestep_min, R::timestep_max, "s");
+  check3("gravity", "component", m.gravity, 0, R::velocity_max, "m/s^2");
+  for (size_t i = 0; i < m.bodies.size(); ++i) {
+    const RigidBody& b = m.bodies[i];
+    const std::string what = body_label(m, static_cast<int>(i));
+    check3(what, "position", b.position, 0, R::coordinate_max, "m");
+    if (b.is_static) continue;
+    check(what, "mass", b.mass, R::mass_min, R::mass_max, "kg");
+    check3(what, "inertia", b.inertia, R::mass_min, R::mass_max, "kg m^2");
+    check3(what, "linear velocity", b.linear_velocity, 0, R::velocity_max, "m/s");
+    check3(what, "angular velocity", b.angular_velocity, 0, R::velocity_max, "rad/s");
+    check3(what, "force", b.applied_force, 0, R::load_max, "N");
+    check3(what, "torque", b.applied_torque, 0, R::load_max, "N m");
+  }
+  for (size_t i = 0; i < m.constraints.size(); ++i) {
+    const Constraint& c = m.constraints[i];
+    const std::string what = constraint_label(m, static_cast<int>(i));
+    check3(what, "anchor", m.bodies[c.body_a].to_world(c.anchor_a), 0, R::coordinate_max, "m");
+    check3(what, "anchor", m.bodies[c.body_b].to_world(c.anchor_b), 0, R::coordinate_max, "m");
+    check(what, "length", c.length, 0, 2 * R::coordinate_max, "m");
+    check(what, "min", c.min, 0, R::coordinate_max, "m or rad");
+    check(what, "max", c.max, 0, R::coordinate_max, "m or rad");
+  }
 }
 
 }  // namespace ldlpgs

@@ -38,4 +38,27 @@ struct Mechanism {
   std::vector<std::pair<int, int>> body_graph() const;
 };
 
+// The ranges a mechanism's data must lie in so that nothing computed from it overflows or
+// underflows: W (1/m, R diag(1/I) R^T), J (lever arms r = anchor - centre), H = J W J^T (entries
+// up to 1/m + |r|^2 / I, at most 4e118 at the corners below), impulses, energies (m |v|^2 <=
+// 1e68) and the velocity step (|W F dt| <= 1e103). "Finite and positive" is not enough: a mass
+// of 1e-320 (1/m = inf), an anchor at 1e155 (|r|^2 = inf) or a coordinate of 1e308 gave an H of
+// NaN and inf (issue 14). These bound representability only: how accurately a solver handles a
+// mechanism near them (a mass ratio of 1e12, a coordinate of 1e9 m whose rounding is 1e-7 m) is
+// another matter (README, "Supported range").
+struct MechanismRanges {
+  static constexpr double mass_min = 1e-50, mass_max = 1e50;  // kg, and principal moments in kg m^2
+  static constexpr double coordinate_max = 1e9;  // |position|, |anchor| (world), |limit min, max|, rod length (m)
+  static constexpr double velocity_max = 1e9;    // |v| (m/s), |w| (rad/s), |gravity| (m/s^2)
+  static constexpr double load_max = 1e50;       // |force| (N), |torque| (N m)
+  static constexpr double timestep_min = 1e-12, timestep_max = 1e3;  // s
+};
+// "body \"hub\"" and "constraint 3 (ball between body \"a\" and body \"b\")" for messages
+// (names escaped and bounded: sparse/error.h's printable).
+std::string body_label(const Mechanism& mechanism, int body);
+std::string constraint_label(const Mechanism& mechanism, int constraint);
+// Throws an InputError "source: body \"hub\": mass 1e-320 outside [1e-50, 1e50] kg" naming the
+// first body, constraint or setting outside MechanismRanges (non-finite values included).
+void check_ranges(const Mechanism& mechanism, const std::string& source);
+
 }  // namespace ldlpgs

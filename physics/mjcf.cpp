@@ -6,13 +6,20 @@
 #include "ldlpgs/physics/mjcf.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
 #include <memory>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Geometry>
 
+#include "ldlpgs/physics/scene.h"
 #include "ldlpgs/sparse/error.h"
 
 #ifdef LDLPGS_HAVE_MUJOCO
@@ -62,11 +69,22 @@ using Eigen::Matrix3d;
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
 
-// |n1 x n2| of unit axes below this: parallel (and |det| of three axes: dependent).
-constexpr double kParallel = 1e-9;
+// A hinge and a slide share one axis when |n1 x n2| of their unit axes is below this: MuJoCo's
+// kinematics give the axes exact to rounding.
+constexpr double kSameAxis = 1e-9;
 // Hinge axes meet when the point closest to all their lines lies within this (relative to the
 // anchors' distance from the origin) of each: MuJoCo's kinematics are exact to rounding.
 constexpr double kMeet = 1e-9;
+// Independent hinge axes: the sine s = |n1 x n2| (two axes) or |det(n1, n2, n3)| (three) must
+// satisfy s^2 >= eps / kMeet (s >= 4.7e-4 rad, 0.027 degrees). The axes are exact only to
+// rounding, eps ~ 2.2e-16; the closest points of two lines (the universal joint below) and the
+// meeting point of three (the solve with sum_i Q_i, whose smallest eigenvalue is ~ s^2) divide by
+// s^2, so their error is ~ eps |anchors| / s^2, and the meeting test needs it within kMeet
+// |anchors|. The rows themselves shrink with s too (the universal joint's rod between P + L n1
+// and P + L n2 has length L s). A fixed 1e-9 on s let axes 1e-8 apart through, where 1 - k^2
+// rounded to 0 and H was all NaN (issue 14); the test is relative to the anchors' scale, which
+// the tolerance on the points carries.
+const double kIndependent = std::sqrt(std::numeric_limits<double>::epsilon() / kMeet);
 // A weld's relpose equals the pose at qpos0 to this (relative position, quaternion vector part).
 constexpr double kSamePose = 1e-9;
 
@@ -121,6 +139,22 @@ Matrix3d frame_from(const Vector3d& x) {
   return f;
 }
 
+// "path: what: problem", the path escaped and bounded; `what` and `problem` hold names already
+// escaped, but as many as the body has joints: cut too.
+[[noreturn]] void refuse_model(const std::string& path, const std::string& what, const std::string& problem) {
+  auto cut = [](std::string text) {
+    constexpr size_t kMax = 300;
+    if (text.size() > kMax) text.replace(kMax, std::string::npos, "...");
+    return text;
+  };
+  std::string s = printable(path);
+  s += ": ";
+  s += cut(what);
+  s += ": ";
+  s += cut(problem);
+  throw InputError(s);
+}
+
 // One joint of a body, world frame at qpos0; its range relative to qpos0 (our limits measure
 // from the initial pose, MuJoCo's from q = 0).
 struct Joint {
@@ -157,7 +191,7 @@ class Converter {
 
  private:
   std::string name(int adr, const char* kind, int id) const {
-    std::string s = m_->names + adr;
+    std::string s = printable(m_->names + adr, 80);
     if (s.empty()) {
       s = kind;
       s += std::to_string(id);
@@ -166,14 +200,7 @@ class Converter {
   }
   std::string body_name(int b) const { return name(m_->name_bodyadr[b], "body", b); }
 
-  [[noreturn]] void fail(const std::string& what, const std::string& problem) const {
-    std::string s = path_;
-    s += ": ";
-    s += what;
-    s += ": ";
-    s += problem;
-    throw InputError(s);
-  }
+  [[noreturn]] void fail(const std::string& what, const std::string& problem) const { refuse_model(path_, what, problem); }
   std::string body_label(int b) const {
     std::string s = "body \"";
     s += body_name(b);
@@ -194,11 +221,11 @@ class Converter {
     r.orientation = Quaterniond(Matrix3d(ximat)).normalized();
     if (!r.is_static && !(r.mass > 0 && r.inertia.minCoeff() > 0)) {
       std::string problem = "a moving body needs a positive mass and inertia, got mass ";
-      problem += std::to_string(r.mass);
+      problem += format_number(r.mass);
       problem += " and inertia";
       for (int k = 0; k < 3; ++k) {
         problem += k ? ", " : " [";
-        problem += std::to_string(r.inertia[k]);
+        problem += format_number(r.inertia[k]);
       }
       problem += "]";
       fail(body_label(b), problem);
@@ -288,7 +315,7 @@ class Converter {
     }
     if (hinges.size() == 1 && slides.size() == 1) {
       const Joint &h = hinges[0], &s = slides[0];
-      if (h.axis.cross(s.axis).norm() > kParallel)
+      if (h.axis.cross(s.axis).norm() > kSameAxis)
         refuse("a hinge and a slide on different axes (1 rotational and 1 translational degree of freedom off "
                "one axis: 2 translational and 2 rotational rows not of a cylindrical joint)");
       add(make_axial(ConstraintType::cylindrical, p, at(p), b, child, h.anchor, h.axis));
@@ -312,10 +339,16 @@ class Converter {
 
     // Two or three hinges with independent axes (parallel ones would be a hinge with a
     // redundant coordinate).
-    const bool independent = hinges.size() == 2
-                                 ? hinges[0].axis.cross(hinges[1].axis).norm() > kParallel
-                                 : std::abs(hinges[0].axis.dot(hinges[1].axis.cross(hinges[2].axis))) > kParallel;
-    if (!independent) refuse("hinges with dependent (parallel or coplanar) axes");
+    const double sine = hinges.size() == 2 ? hinges[0].axis.cross(hinges[1].axis).norm()
+                                           : std::abs(hinges[0].axis.dot(hinges[1].axis.cross(hinges[2].axis)));
+    if (!(sine >= kIndependent)) {
+      std::string why = "hinges with dependent (parallel or coplanar) axes (sine ";
+      why += format_number(sine);
+      why += ", below ";
+      why += format_number(kIndependent);
+      why += ": the rows would be singular to rounding)";
+      refuse(why);
+    }
     double size = 1;  // the anchors' scale, for the meeting tolerance
     for (const Joint& h : hinges) size = std::max(size, h.anchor.norm());
     if (hinges.size() == 3) {
@@ -334,7 +367,7 @@ class Converter {
         const double miss = ((Matrix3d::Identity() - h.axis * h.axis.transpose()) * (point - h.anchor)).norm();
         if (miss > kMeet * size) {
           std::string why = "three hinges whose axes do not meet in one point (";
-          why += std::to_string(miss);
+          why += format_number(miss);
           why += " m off): the child's translation then depends on its rotation";
           refuse(why);
         }
@@ -351,7 +384,8 @@ class Converter {
     const Joint &h1 = hinges[0], &h2 = hinges[1];
     const Vector3d &n1 = h1.axis, &n2 = h2.axis;
     const Vector3d w = h1.anchor - h2.anchor;
-    const double k = n1.dot(n2), denominator = 1 - k * k;
+    // 1 - k^2 = |n1 x n2|^2, the latter without the cancellation of 1 - k^2 near parallel axes
+    const double k = n1.dot(n2), denominator = n1.cross(n2).squaredNorm();
     const Vector3d p1 = h1.anchor + ((k * n2.dot(w) - n1.dot(w)) / denominator) * n1;
     const Vector3d p2 = h2.anchor + ((n2.dot(w) - k * n1.dot(w)) / denominator) * n2;
     const double offset = (p2 - p1).norm();
@@ -434,27 +468,168 @@ class Converter {
   MjcfDropped* dropped_;
 };
 
+
+// The XML's numeric attributes, checked before MuJoCo sees the file: MuJoCo reads nan and inf,
+// and a hinge axis "nan 0 0" makes mj_loadXML never return (its length-range computation steps
+// the model: issue 14). A tag-level scan, not an XML parser: comments, declarations and CDATA are
+// skipped, entities are not expanded (MuJoCo's tinyxml2 then reports them), and <include file>
+// is followed (relative to the including file, at most kMaxIncludeDepth deep). Only these
+// attributes are checked; every whitespace-separated token must be a finite double.
+constexpr std::string_view kNumericAttributes[] = {
+    "pos",      "quat",        "axisangle",  "euler",     "xyaxes",   "zaxis",     "axis",   "mass",
+    "diaginertia", "fullinertia", "range",   "timestep",  "gravity",  "fromto",    "size",   "density",
+    "ref",      "springref",   "stiffness",  "damping",   "armature", "frictionloss", "relpose", "anchor",
+    "ipos",     "iquat",       "refpos",     "refquat",   "qpos",     "qvel",      "margin", "gap",
+    "solref",   "solimp",      "friction",   "impratio",  "tolerance", "wind",     "magnetic", "viscosity"};
+constexpr int kMaxIncludeDepth = 16;
+
+void check_numbers(const std::string& path, const std::string& file, int depth) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return;  // MuJoCo names what is missing
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto fail = [&](size_t at, std::string_view element, std::string_view attribute, std::string_view value,
+                  const char* problem) {
+    std::string s = printable(file);
+    s += ":";
+    s += std::to_string(1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+    s += ": <";
+    s += printable(element, 40);
+    s += "> ";
+    s += printable(attribute, 40);
+    s += "=\"";
+    s += printable(value, 80);
+    s += "\": ";
+    s += problem;
+    if (file != path) {
+      s += " (included by ";
+      s += printable(path);
+      s += ")";
+    }
+    throw InputError(s);
+  };
+  auto skip_past = [&](size_t from, std::string_view end) {
+    const size_t k = text.find(end, from);
+    return k == std::string::npos ? text.size() : k + end.size();
+  };
+  constexpr std::string_view kSpace = " \t\r\n";
+  size_t i = 0;
+  while ((i = text.find('<', i)) != std::string::npos) {
+    const std::string_view rest = std::string_view(text).substr(i);
+    if (rest.starts_with("<!--")) {
+      i = skip_past(i, "-->");
+      continue;
+    }
+    if (rest.starts_with("<![CDATA[")) {
+      i = skip_past(i, "]]>");
+      continue;
+    }
+    if (rest.starts_with("<?") || rest.starts_with("<!") || rest.starts_with("</")) {
+      i = skip_past(i, ">");
+      continue;
+    }
+    size_t k = i + 1;
+    const size_t name_end = std::min(text.find_first_of(" \t\r\n/>", k), text.size());
+    const std::string_view element = std::string_view(text).substr(k, name_end - k);
+    k = name_end;
+    while (k < text.size() && text[k] != '>') {  // attributes: name = "value" or 'value'
+      const size_t a = text.find_first_not_of(kSpace, k);
+      if (a == std::string::npos || text[a] == '>' || text[a] == '/') {
+        k = a == std::string::npos ? text.size() : a + 1;
+        if (a != std::string::npos && text[a] == '>') break;
+        continue;
+      }
+      const size_t a_end = std::min(text.find_first_of(" \t\r\n=/>", a), text.size());
+      const std::string_view attribute = std::string_view(text).substr(a, a_end - a);
+      const size_t eq = text.find_first_not_of(kSpace, a_end);
+      if (eq == std::string::npos || text[eq] != '=') {
+        k = a_end;
+        continue;
+      }
+      const size_t q = text.find_first_not_of(kSpace, eq + 1);
+      if (q == std::string::npos || (text[q] != '"' && text[q] != '\'')) return;  // malformed: MuJoCo says so
+      const size_t q_end = text.find(text[q], q + 1);
+      if (q_end == std::string::npos) return;
+      const std::string_view value = std::string_view(text).substr(q + 1, q_end - q - 1);
+      k = q_end + 1;
+      if (element == "include" && attribute == "file") {
+        if (depth >= kMaxIncludeDepth) fail(q, element, attribute, value, "includes nested too deep");
+        const std::filesystem::path included = std::filesystem::path(file).parent_path() / std::string(value);
+        check_numbers(path, included.string(), depth + 1);
+        continue;
+      }
+      if (std::find(std::begin(kNumericAttributes), std::end(kNumericAttributes), attribute) ==
+          std::end(kNumericAttributes))
+        continue;
+      for (size_t t = value.find_first_not_of(kSpace); t != std::string_view::npos;) {
+        const size_t t_end = std::min(value.find_first_of(kSpace, t), value.size());
+        std::string_view token = value.substr(t, t_end - t);
+        if (token.starts_with('+')) token.remove_prefix(1);
+        double x = 0;
+        const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), x);
+        if (end != token.data() + token.size() || (ec != std::errc() && ec != std::errc::result_out_of_range))
+          fail(q, element, attribute, value, "not a number");
+        // out of range: an underflow reads as 0 or a subnormal, an overflow as inf
+        if (ec == std::errc::result_out_of_range) x = std::strtod(std::string(token).c_str(), nullptr);
+        if (!std::isfinite(x)) fail(q, element, attribute, value, "not a finite number (nan, inf or beyond 1.8e308)");
+        t = value.find_first_not_of(kSpace, t_end);
+      }
+    }
+    i = k;
+  }
+}
+
+// What the converter reads of the compiled model must be finite, and the timestep positive:
+// MuJoCo steps a negative or infinite timestep without complaint.
+void check_compiled(const std::string& path, const mjModel* m, const mjData* d) {
+  auto fail = [&](const std::string& what, const std::string& problem) { refuse_model(path, what, problem); };
+  if (!(m->opt.timestep > 0) || !std::isfinite(m->opt.timestep))
+    fail("option timestep", "must be finite and > 0, got " + format_number(m->opt.timestep));
+  auto finite = [](const mjtNum* p, int n) { return std::all_of(p, p + n, [](mjtNum x) { return std::isfinite(x); }); };
+  if (!finite(m->opt.gravity, 3)) fail("option gravity", "not finite");
+  for (int b = 0; b < m->nbody; ++b) {
+    if (finite(m->body_mass + b, 1) && finite(m->body_inertia + 3 * b, 3) && finite(d->xipos + 3 * b, 3) &&
+        finite(d->ximat + 9 * b, 9) && finite(d->xpos + 3 * b, 3) && finite(d->xquat + 4 * b, 4))
+      continue;
+    std::string what = "body \"";
+    what += printable(m->names + m->name_bodyadr[b], 80);
+    what += "\"";
+    fail(what, "its compiled mass, inertia or pose is not finite");
+  }
+  for (int j = 0; j < m->njnt; ++j) {
+    if (finite(d->xanchor + 3 * j, 3) && finite(d->xaxis + 3 * j, 3) && finite(m->jnt_range + 2 * j, 2)) continue;
+    std::string what = "joint \"";
+    what += printable(m->names + m->name_jntadr[j], 80);
+    what += "\"";
+    fail(what, "its compiled anchor, axis or range is not finite");
+  }
+  if (!finite(m->qpos0, m->nq)) fail("qpos0", "not finite");
+  if (!finite(m->eq_data, mjNEQDATA * m->neq)) fail("equality data", "not finite");
+}
+
 }  // namespace
 
 Mechanism load_mjcf(const std::string& path, MjcfDropped* dropped) {
+  check_numbers(path, path, 0);
   char error[1024] = "";
   std::unique_ptr<mjModel, ModelDeleter> model(mj_loadXML(path.c_str(), nullptr, error, sizeof error));
   if (!model) {
-    std::string s = path;
+    std::string s = printable(path);
     s += ": MuJoCo cannot load it: ";
     std::string message = error;
     for (char& ch : message)
       if (ch == '\n') ch = ' ';  // one line
     while (!message.empty() && message.back() == ' ') message.pop_back();
-    s += message.empty() ? "unknown error" : message;
+    s += message.empty() ? "unknown error" : printable(message);
     throw InputError(s);
   }
   std::unique_ptr<mjData, DataDeleter> data(mj_makeData(model.get()));  // qpos = qpos0, qvel = 0
   mj_kinematics(model.get(), data.get());  // poses only: no collision detection, no dynamics
+  check_compiled(path, model.get(), data.get());
   Mechanism m;
   m.name = std::filesystem::path(path).stem().string();
   MjcfDropped ignored;
   Converter(path, model.get(), data.get(), &m, dropped ? dropped : &ignored).run();
+  check_ranges(m, path);
   return m;
 }
 

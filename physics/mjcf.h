@@ -47,7 +47,12 @@
 //
 // Errors: a file MuJoCo cannot parse, and every construct above that we refuse, are an
 // InputError naming the file and the construct ("humanoid.xml: body \"x\": joints a (slide),
-// b (slide): ..."); so is any MJCF file when the library was built without MuJoCo.
+// b (slide): ..."); so is any MJCF file when the library was built without MuJoCo. Before
+// MuJoCo reads the file, every number in its numeric attributes (and its includes') must be a
+// finite double ("m.xml:3: <joint> axis=\"nan 0 0\": not a finite number": a nan axis made
+// mj_loadXML hang); after it compiles, the timestep must be finite and > 0 and what we read of
+// the model (masses, inertias, poses, anchors, axes, ranges) finite; then the mechanism must lie
+// in MechanismRanges (mechanism.h). Names and MuJoCo's own messages are quoted with printable().
 #include <string>
 
 #include "ldlpgs/physics/mechanism.h"

@@ -42,17 +42,16 @@ namespace ldlpgs {
 
 using nlohmann::json;
 
-namespace {
-
-// Axes, quaternions and rod directions shorter than this are refused: they have no direction.
-constexpr double kTiny = 1e-12;
-
-// The shortest text that reads back as x ("0.1", "inf", "nan").
 std::string format_number(double x) {
   char buffer[64];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
   return std::string(buffer, result.ptr);
 }
+
+namespace {
+
+// Axes, quaternions and rod directions shorter than this are refused: they have no direction.
+constexpr double kTiny = 1e-12;
 
 std::string format_vector(std::span<const double> v) {
   std::string s = "[";
@@ -382,6 +381,7 @@ Mechanism parse_scene(const json& scene, const std::string& source) {
       m.add_constraint(parse_constraint(e, m, index));
     }
   }
+  check_ranges(m, source);
   return m;
 }
 

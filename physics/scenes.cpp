@@ -609,7 +609,10 @@ Mechanism load_mechanism(const std::string& spec, MjcfDropped* dropped) {
   if (is_mjcf_path(spec)) return load_mjcf(spec, dropped);
   if (std::filesystem::exists(spec)) return load_scene(spec);
   Mechanism m;
-  if (builtin_scene(spec, &m)) return m;
+  if (builtin_scene(spec, &m)) {
+    check_ranges(m, spec);  // heavy-chain-N-R takes any R
+    return m;
+  }
   std::string known;
   for (const std::string& name : builtin_scene_names()) known += " " + name;
   throw InputError(spec + ": no such file and no built-in scene of that name (built-in:" + known +

@@ -8,7 +8,9 @@
 //   P = (m/k) spacing^2 sum_j (j - (k-1)/2)^2 = m spacing^2 (k^2 - 1) / 12
 // (the parallel-axis theorem; sum_j s_j = 0 keeps the centre at p). Shards of principal moments
 // I_j = (I - P (Id - e e^T)) / k, diagonal in the same frame, give back exactly diag(I).
-// P = min(I across e) / 2 keeps every I_j positive, and fixes the spacing.
+// P = min(I across e) / 2 keeps every I_j positive, and fixes the spacing, unless the chain would
+// then reach beyond the body's farthest anchor: the spacing is then the shorter one and P follows
+// from it (shatter_body: why).
 //
 // Every constraint on the body moves to one shard with its world anchors and axes unchanged
 // (anchor_local -> anchor_local - s_j e in the shared orientation, frames as they were), so
@@ -24,6 +26,8 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <unordered_set>
 
 #include "ldlpgs/ordering/metrics.h"
 #include "ldlpgs/ordering/ordering.h"
@@ -86,9 +90,29 @@ Mechanism shatter_body(const Mechanism& mechanism, int body, int k, std::vector<
   double across = std::numeric_limits<double>::infinity();
   for (int i = 0; i < 3; ++i)
     if (i != axis) across = std::min(across, original.inertia[i]);
-  const double parallel = 0.5 * across;  // P
-  const double spacing = std::sqrt(12 * parallel / (original.mass * (static_cast<double>(k) * k - 1)));
+  // The spacing from P = min(I across e) / 2, but the chain no longer than the body's extent
+  // along e as its constraints see it (twice the farthest anchor along e): a shard's position
+  // carries rounding eps |c_j|, so the shards' mass-weighted centre (whole_body) and the welds'
+  // lever arms (entries s in J, s^2 / I in H) lose eps s; where the body's radius of gyration
+  // dwarfs its size (mass 1e-200, inertia 1: sqrt(I / m) = 1e100) the shards were 1e100 m apart,
+  // the body's position was rounding, and 5 steps ended 29.5 m from the unshattered run (issue
+  // 14). A shorter chain is still exact: P = m s^2 (k^2 - 1) / 12 below min(I across e) / 2
+  // keeps every I_j positive, and I_j is computed from that P.
+  double extent = 0;  // farthest anchor along e, body frame
+  for (const Constraint& c : mechanism.constraints) {
+    if (c.body_a == body) extent = std::max(extent, std::abs(c.anchor_a.dot(e)));
+    if (c.body_b == body) extent = std::max(extent, std::abs(c.anchor_b.dot(e)));
+  }
+  const double k2 = static_cast<double>(k) * k - 1;
+  const double spacing = std::min(std::sqrt(12 * (0.5 * across) / (original.mass * k2)), 2 * extent / (k - 1));
+  const double parallel = original.mass * spacing * spacing * k2 / 12;  // P
   const Eigen::Vector3d shard_inertia = (original.inertia - parallel * (Eigen::Vector3d::Ones() - e)) / k;
+
+  // Shard names "body#j", made unique against every other body's (a user's body named "hub#1"
+  // would otherwise share a shard's name, and a scene written from the shattered mechanism be
+  // refused for its duplicate names).
+  std::unordered_set<std::string> taken;
+  for (const RigidBody& b : mechanism.bodies) taken.insert(b.name);
 
   Mechanism m = mechanism;
   std::vector<int> ids(k);          // shard j -> body index (size k)
@@ -99,6 +123,14 @@ Mechanism shatter_body(const Mechanism& mechanism, int body, int k, std::vector<
     shard.name = original.name;
     shard.name += "#";
     shard.name += std::to_string(j);
+    for (int n = 2; taken.contains(shard.name); ++n) {
+      shard.name = original.name;
+      shard.name += "#";
+      shard.name += std::to_string(j);
+      shard.name += "~";
+      shard.name += std::to_string(n);
+    }
+    taken.insert(shard.name);
     shard.mass = original.mass / k;
     shard.inertia = shard_inertia;
     const Eigen::Vector3d r = original.orientation * (offset[j] * e);
@@ -261,9 +293,12 @@ RigidBody whole_body(const Mechanism& shattered, const std::vector<int>& shards,
     moment += s.mass * s.position;
     momentum += s.mass * s.linear_velocity;
   }
-  whole.position = moment / mass;
+  // A massless body (MuJoCo's world, static) is never shattered: its one shard is itself, and
+  // the mass-weighted means would be 0 / 0.
+  const bool one = shards.size() == 1 || !(mass > 0);
+  whole.position = one ? first.position : Eigen::Vector3d(moment / mass);
   whole.orientation = first.orientation;
-  whole.linear_velocity = momentum / original.mass;
+  whole.linear_velocity = one ? first.linear_velocity : Eigen::Vector3d(momentum / original.mass);
   whole.angular_velocity = first.angular_velocity;
   return whole;
 }

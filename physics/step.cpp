@@ -4,9 +4,12 @@
 #include <cassert>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <new>
 #include <string>
 #include <type_traits>
+
+#include <Eigen/Geometry>
 
 #include "ldlpgs/sparse/error.h"
 
@@ -54,6 +57,28 @@ double total_energy(const Mechanism& m) {
   for (const RigidBody& b : m.bodies)
     if (!b.is_static) e += b.kinetic_energy() - b.mass * m.gravity.dot(b.position);
   return e;
+}
+
+double mechanism_size(const Mechanism& m) {
+  Eigen::AlignedBox3d box;
+  for (const RigidBody& b : m.bodies) box.extend(b.position);
+  for (const Constraint& c : m.constraints) {
+    box.extend(m.bodies[c.body_a].to_world(c.anchor_a));
+    box.extend(m.bodies[c.body_b].to_world(c.anchor_b));
+  }
+  return box.isEmpty() ? 0 : box.diagonal().norm();
+}
+
+std::string run_failure(const StepReport& r, double size) {
+  if (!std::isfinite(r.energy) || !std::isfinite(r.error.position_max) || !std::isfinite(r.error.angular_max))
+    return "non-finite state";
+  if (size > 0 && r.error.position_max > kApartFraction * size) {
+    char line[200];
+    std::snprintf(line, sizeof line, "position error %.3g m, beyond %g of the mechanism's size %.3g m: it came apart",
+                  r.error.position_max, kApartFraction, size);
+    return line;
+  }
+  return "";
 }
 
 namespace {

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -1058,6 +1059,84 @@ TEST(LdlpgsRobust, VerifyNeverAgreesOnAToleranceThatChecksNothing) {
     EXPECT_FALSE(j["ok"].get<bool>());
     EXPECT_FALSE(j["verifiable"].get<bool>());
   }
+}
+
+// issue 14: physics-side classes. Each failed on the main of 0241fc1 (the old program: exit 0
+// with a negative timestep, NaN in the trace and in H.mtx, a scene spy wrote that step refused,
+// exit 0 on a chain 48.9 m apart).
+#ifdef LDLPGS_HAVE_MUJOCO
+// Class 4: MJCF is checked before and after MuJoCo: a negative timestep was stepped ("5 steps of
+// -0.01 s", exit 0); MuJoCo's massless world body was written as -nan in the trace.
+TEST(LdlpgsRobust, MjcfTimestepAndTraceOfTheWorld) {
+  const std::string body = R"(<worldbody><body name="arm"><joint axis="1 0 0" pos="0 0 1"/><geom size=".1"/></body></worldbody>)";
+  const std::string negative = temp_file("negative.xml", "<mujoco><option timestep=\"-0.01\"/>" + body + "</mujoco>");
+  expect_input_error("step " + negative + " --steps 5", {"negative.xml: option timestep", "-0.01"});
+  const std::string trace = temp_path("world.csv");
+  const std::string model = temp_file("model.xml", "<mujoco>" + body + "</mujoco>");
+  ASSERT_EQ(run("step " + model + " --steps 2 --trace-file " + trace).code, 0);
+  std::ifstream in(trace);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("\n0,0,world,0,0,0,1,0,0,0"), std::string::npos) << text.substr(0, 300);
+  EXPECT_EQ(text.find("nan"), std::string::npos) << text.substr(0, 300);
+}
+#endif
+
+// Class 5: export wrote NaN and inf into H.mtx with exit 0 (a mass of 1e-320, an anchor at
+// 1e155, a coordinate of 1e308), which verify then refused. Now exit 2 naming the body or
+// constraint, and no matrix written.
+TEST(LdlpgsRobust, ExportNeverWritesNonFiniteEntries) {
+  auto scene = [](const char* mass, const char* position, const char* anchor) {
+    std::string s = R"({"bodies": [{"name": "ground", "static": true, "position": [0, 0, 0]}, {"name": "bob", "mass": )";
+    s += mass;
+    s += R"(, "inertia": [1, 1, 1], "position": [)";
+    s += position;
+    s += R"(, 0, 0]}], "constraints": [{"type": "ball", "bodies": ["ground", "bob"], "anchor": [)";
+    s += anchor;
+    s += ", 0, 0]}]}";
+    return s;
+  };
+  const std::pair<std::string, std::string> cases[] = {
+      {scene("1e-320", "1", "0"), "body \"bob\": mass 1e-320"},
+      {scene("1", "1", "1e155"), "constraint 0 (ball between body \"ground\" and body \"bob\"): anchor 1e+155"},
+      {scene("1", "1e308", "0"), "body \"bob\": position 1e+308"}};
+  for (const auto& [text, words] : cases) {
+    const std::string path = temp_file("overflow.json", text), mtx = temp_path("overflow.mtx");
+    expect_input_error("export " + path + " --matrix-file " + mtx + " --blocks-file " + temp_path("o.blocks"),
+                       {"overflow.json: " + words});
+    EXPECT_FALSE(std::filesystem::exists(mtx));
+  }
+}
+
+// Class 7: a user's body named "chassis#1" shared its name with a shard, so the scene spy
+// --scene-out wrote was refused by step ("duplicate body name").
+TEST(LdlpgsRobust, SpySceneOfAShatteredMechanismSteps) {
+  std::ifstream in(std::string(LDLPGS_TESTDATA) + "/../../physics/scenes/multi-wheeled-vehicle.json");
+  nlohmann::json scene = nlohmann::json::parse(in);
+  for (const char* name : {"chassis#1", "chassis#2"})
+    scene["bodies"].push_back({{"name", name}, {"mass", 1}, {"inertia", {1, 1, 1}}, {"position", {0, 9, 0}}});
+  const std::string path = temp_file("named.json", scene.dump()), out = temp_path("shattered.json");
+  const Result spy = run("spy " + path + " --scene-out " + out + " --json-file " + temp_path("spy.json"));
+  ASSERT_EQ(spy.code, 0) << spy.err;
+  const Result step = run("step " + out + " --no-shatter --steps 3");
+  EXPECT_EQ(step.code, 0) << step.err;
+}
+
+// Class 10: a mass ratio of 1e12 ended every solver's 5 m heavy chain 48.9 m apart in 1000
+// steps, and PGS's 100-link chain 5.15 m (6e17 m later on), all with exit 0. Now exit 1 naming
+// the step and the error against the mechanism's size; within the supported range, exit 0.
+TEST(LdlpgsRobust, MassRatioBeyondTheSupportedRangeExitsOne) {
+  for (const char* solver : {"direct", "ldl-pgs", "pgs", "block-gs"}) {
+    const Result r = run(std::string("step heavy-chain-10-1e12 --steps 1000 --json --solver ") + solver);
+    EXPECT_EQ(r.code, 1) << solver << ": " << r.err;
+    EXPECT_NE(r.err.find("it came apart"), std::string::npos) << r.err;
+    EXPECT_NE(nlohmann::json::parse(r.out)["failure"].get<std::string>().find("size 4.75 m"), std::string::npos);
+  }
+  const Result hundred = run("step heavy-chain-100-1e12 --steps 200 --solver pgs");
+  EXPECT_EQ(hundred.code, 1) << hundred.err;
+  EXPECT_NE(hundred.err.find("it came apart"), std::string::npos) << hundred.err;
+  const Result supported = run("step heavy-chain-10-1e6 --steps 1000 --json");
+  EXPECT_EQ(supported.code, 0) << supported.err;
+  EXPECT_TRUE(nlohmann::json::parse(supported.out)["failure"].is_null());
 }
 }  // namespace
 }  // namespace ldlpgs

@@ -417,6 +417,127 @@ TEST(MjcfBadInput, WeldAwayFromItsRelpose) {
                  {"equality \"w\" (weld)", "relpose"});
 }
 
+// ---- issue 14, class 4: what a file can hand MuJoCo ----
+
+// A hinge axis "nan 0 0" on a model with a muscle (whose length range MuJoCo computes by stepping
+// the model) never returned from mj_loadXML; now every non-finite or unparsable number in a
+// numeric attribute is refused before MuJoCo reads the file, naming file, line, element,
+// attribute and value.
+TEST(LdlpgsRobust, MjcfNanAxisIsRefusedNotHung) {
+  struct Case {
+    std::string element, attribute, value, problem;
+  };
+  const Case cases[] = {{"joint", "axis", "nan 0 0", "not a finite number"},
+                        {"joint", "axis", "1 -inf 0", "not a finite number"},
+                        {"joint", "axis", "NaN 0 0", "not a finite number"},
+                        {"joint", "pos", "0 0 1e400", "not a finite number"},
+                        {"joint", "axis", "1 0 zero", "not a number"},
+                        {"body", "pos", "0 +inf 0", "not a finite number"},
+                        {"geom", "fromto", "0 0 0 0 0 -nan", "not a finite number"},
+                        {"option", "timestep", "inf", "not a finite number"},
+                        {"option", "gravity", "0 0 -1e999", "not a finite number"}};
+  for (const Case& c : cases) {
+    std::string joint = "<joint name=\"a\" axis=\"1 0 0\"/>", body = "<body name=\"arm\">",
+                geom = "<geom type=\"capsule\" size=\".05\" fromto=\"0 0 0 0 0 -1\"/>", option;
+    const std::string attribute = c.attribute + "=\"" + c.value + "\"";
+    if (c.element == "joint") {
+      joint = "<joint name=\"a\" ";
+      joint += attribute;
+      joint += c.attribute == "axis" ? "/>" : " axis=\"1 0 0\"/>";
+    }
+    if (c.element == "body") body = "<body name=\"arm\" " + attribute + ">";
+    if (c.element == "geom") geom = "<geom type=\"capsule\" size=\".05\" " + attribute + "/>";
+    if (c.element == "option") option = "<option " + attribute + "/>";
+    const std::string path = temp_file("bad_number.xml", "<mujoco>" + option + "\n<worldbody>\n" + body + joint + geom +
+                                                             "</body></worldbody>\n<actuator><muscle joint=\"a\"/>"
+                                                             "</actuator></mujoco>");
+    SCOPED_TRACE(attribute);
+    std::string where = path;  // file:line: <element> attribute="value"
+    where += c.element == "option" ? ":1: <" : ":3: <";
+    where += c.element;
+    where += "> ";
+    where += attribute;
+    const std::string message = load_error(path);
+    EXPECT_EQ(message.rfind(where, 0), 0u) << message;
+    EXPECT_NE(message.find(c.problem), std::string::npos) << message;
+  }
+}
+
+// MuJoCo stepped a negative or zero timestep without complaint ("5 steps of -0.01 s", exit 0).
+TEST(LdlpgsRobust, MjcfCompiledTimestepMustBePositive) {
+  for (const char* timestep : {"-0.01", "0"}) {
+    const std::string path = temp_file("timestep.xml", std::string("<mujoco><option timestep=\"") + timestep +
+                                                           "\"/><worldbody><body><joint axis=\"1 0 0\"/>" + kBody +
+                                                           "</body></worldbody></mujoco>");
+    expect_refused(path, {"option timestep", "finite and > 0"});
+  }
+}
+
+// Two or three hinges whose axes are independent only to rounding: axes 1e-8 apart passed the
+// fixed 1e-9 test and gave an H of NaN (1 - k^2 rounded to 0). Now such a model is refused, and
+// every model that loads has finite J, W and H, whatever the angle and the anchors' scale.
+TEST(LdlpgsRobust, MjcfNearParallelHingesAreRefusedOrFinite) {
+  int refused = 0, loaded = 0;
+  for (double scale : {1.0, 1e3}) {
+    for (double d : {1e-12, 1e-10, 1e-8, 1e-6, 1e-4, 1e-3, 1e-2}) {
+      for (int hinges : {2, 3}) {
+        char text[1024];
+        const char* third = hinges == 3 ? "<joint name=\"c\" axis=\"0 1 0\"/>" : "";
+        // two hinges: axes d apart, anchors apart (the four-rod universal joint); three: n3 = y,
+        // n2 tilted d out of the xy plane from x... nearly coplanar with n1 = x and n3.
+        if (hinges == 2)
+          std::snprintf(text, sizeof text,
+                        "<mujoco><worldbody><body name=\"arm\" pos=\"%g 0 0\"><joint name=\"a\" axis=\"1 0 0\"/>"
+                        "<joint name=\"b\" axis=\"1 %.17g 0\" pos=\"0 %g 0\"/>%s</body></worldbody></mujoco>",
+                        scale, d, 0.1 * scale, kBody.c_str());
+        else
+          std::snprintf(text, sizeof text,
+                        "<mujoco><worldbody><body name=\"arm\" pos=\"%g 0 0\"><joint name=\"a\" axis=\"1 0 0\"/>"
+                        "<joint name=\"b\" axis=\"1 1 %.17g\"/>%s%s</body></worldbody></mujoco>",
+                        scale, d, third, kBody.c_str());
+        SCOPED_TRACE(text);
+        const std::string path = temp_file("parallel.xml", text);
+        const std::string message = load_error(path);
+        if (!message.empty()) {
+          ++refused;
+          EXPECT_NE(message.find("dependent"), std::string::npos) << message;
+          continue;
+        }
+        ++loaded;
+        const Mechanism m = load_mjcf(path);
+        const System s = build_system(m, StepOptions{});
+        std::vector<int> sizes;
+        const SymmetricCsc h = equality_matrix(s, &sizes);
+        EXPECT_TRUE(std::all_of(h.values.begin(), h.values.end(), [](double x) { return std::isfinite(x); }));
+        Simulation sim(m, StepOptions{});
+        for (int step = 0; step < 20; ++step) sim.step();
+        EXPECT_TRUE(std::isfinite(constraint_error(sim.mechanism()).position_max));
+      }
+    }
+  }
+  EXPECT_GT(refused, 0);
+  EXPECT_GT(loaded, 0);
+}
+
+// Names, paths and MuJoCo's own messages come from the file: quoted escaped and bounded.
+TEST(LdlpgsRobust, MjcfMessagesAreOneBoundedPrintableLine) {
+  const std::string long_name(5000, 'x');
+  const std::string slides = temp_file(
+      "slides.xml", "<mujoco><worldbody><body name=\"" + long_name + "&#10;&#7;\"><joint type=\"slide\" axis=\"1 0 0\"/>"
+                    "<joint type=\"slide\" axis=\"0 1 0\"/>" + kBody + "</body></worldbody></mujoco>");
+  const std::string broken = temp_file("broken.xml", "<mujoco><worldbody><body name=\"" + long_name + "\x01\">" + long_name);
+  std::string joints;  // 200 slides of long names: the refusal lists them all
+  for (int j = 0; j < 200; ++j) joints += "<joint name=\"" + long_name.substr(0, 70) + std::to_string(j) + "\" type=\"slide\"/>";
+  const std::string many = temp_file("many.xml", "<mujoco><worldbody><body>" + joints + kBody + "</body></worldbody></mujoco>");
+  for (const std::string& path : {slides, broken, many}) {
+    const std::string message = load_error(path);
+    ASSERT_FALSE(message.empty());
+    EXPECT_LT(message.size(), 1000u) << message.size();
+    EXPECT_TRUE(std::none_of(message.begin(), message.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20; }))
+        << message;
+  }
+}
+
 #endif
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "ldlpgs/physics/step.h"
 #include "ldlpgs/sparse/error.h"
 #include "tests/mechanism_compare.h"
 #include "tests/temp_files.h"
@@ -684,6 +686,70 @@ TEST(SceneBadInput, DuplicateKeyLocationIsBoundedAndPrintable) {
   message = file_error_of(temp_file("dup_deep.json", "{\"bodies\": " + deep + "}"));
   EXPECT_LT(message.size(), 400u) << message.substr(0, 400);
   EXPECT_NE(message.find("duplicate key \"a\""), std::string::npos) << message.substr(0, 400);
+}
+
+// ---- issue 14, class 5: values whose products overflow ----
+
+// "Finite and positive" let through a mass of 1e-320 (1/m = inf), an anchor at 1e155 (|r|^2 =
+// inf) and a coordinate of 1e308, and export wrote NaN and inf with exit 0. Now every value must
+// lie in MechanismRanges (physics/mechanism.h), named in the message; and at the ranges' corners
+// J, W and H are finite.
+TEST(LdlpgsRobust, SceneValuesWhoseProductsOverflowAreRefused) {
+  struct Case {
+    std::vector<std::string> keys;  // a path into valid()
+    json value;
+    std::string words;
+  };
+  const std::vector<Case> cases = {
+      {{"bodies", "2", "mass"}, 1e-320, "body \"b2\": mass 1e-320 outside [1e-50, 1e+50] kg"},
+      {{"bodies", "2", "mass"}, 1e60, "body \"b2\": mass 1e+60"},
+      {{"bodies", "1", "inertia"}, {1, 1e-300, 1}, "body \"b1\": inertia 1e-300"},
+      {{"bodies", "1", "position"}, {1e308, 0, 0}, "body \"b1\": position 1e+308 beyond +-1e+09 m"},
+      {{"bodies", "0", "position"}, {0, -1e155, 0}, "body \"ground\": position -1e+155"},
+      {{"bodies", "2", "linear_velocity"}, {0, 1e200, 0}, "body \"b2\": linear velocity 1e+200"},
+      {{"bodies", "2", "angular_velocity"}, {0, 0, -1e10}, "body \"b2\": angular velocity -1e+10"},
+      {{"constraints", "0", "anchor"}, {1e155, 0, 0}, "constraint 0 (ball between body \"ground\" and body \"b1\"): anchor 1e+155"},
+      {{"constraints", "2", "length"}, 1e300, "constraint 2 (rope between body \"b2\" and body \"wall\"): length 1e+300"},
+      {{"constraints", "3", "min"}, -1e300, "constraint 3 (angular_limit between body \"b1\" and body \"b2\"): min -1e+300"},
+      {{"gravity"}, {0, -1e200, 0}, "gravity: component -1e+200"},
+      {{"timestep"}, 1e-300, "timestep: timestep 1e-300 outside [1e-12, 1000] s"},
+      {{"timestep"}, 1e300, "timestep: timestep 1e+300"}};
+  for (const Case& c : cases) {
+    json s = valid();
+    json* v = &s;
+    for (const std::string& key : c.keys) v = std::isdigit(key[0]) ? &(*v)[std::stoul(key)] : &(*v)[key];
+    *v = c.value;
+    SCOPED_TRACE(c.words);
+    expect_error(s, c.words.substr(0, c.words.find(':')), {c.words, "MechanismRanges"});
+  }
+  // A force of 1e300 N on the body of 1e-50 kg would be W F dt = 1e348 m/s.
+  json s = valid();
+  s["bodies"][1]["force"] = {0, 1e300, 0};
+  expect_error(s, "body \"b1\"", {"force 1e+300"});
+
+  // The corners: the lightest and heaviest bodies, the farthest anchors, loads and speeds.
+  using R = MechanismRanges;
+  for (double light : {R::mass_min, R::mass_max}) {
+    json corner = valid();
+    corner["bodies"][1]["mass"] = light;
+    corner["bodies"][1]["inertia"] = {light, light, light};
+    corner["bodies"][2]["mass"] = R::mass_max;
+    corner["bodies"][2]["inertia"] = {R::mass_min, R::mass_max, R::mass_min};
+    corner["bodies"][2]["position"] = {R::coordinate_max, -R::coordinate_max, R::coordinate_max};
+    corner["bodies"][2]["linear_velocity"] = {R::velocity_max, 0, 0};
+    corner["bodies"][2]["force"] = {0, R::load_max, 0};
+    corner["bodies"][1]["torque"] = {R::load_max, 0, 0};
+    corner["constraints"][0]["anchor"] = {-R::coordinate_max, R::coordinate_max, -R::coordinate_max};
+    const Mechanism m = parse_scene(corner, "corner.json");
+    const System system = build_system(m, StepOptions{});
+    std::vector<int> sizes;
+    const SymmetricCsc h = equality_matrix(system, &sizes);
+    auto finite = [](const std::vector<double>& v) { return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }); };
+    EXPECT_TRUE(finite(system.jacobian));
+    EXPECT_TRUE(finite(system.inverse_mass));
+    EXPECT_TRUE(finite(system.rhs));
+    EXPECT_TRUE(finite(h.values));
+  }
 }
 }  // namespace
 }  // namespace ldlpgs

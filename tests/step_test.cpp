@@ -14,6 +14,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
 #include <numbers>
 #include <random>
 
@@ -782,6 +785,87 @@ TEST(SimulationState, AppliedForcesActForOneStep) {
   sim.set_gravity(Eigen::Vector3d(0, -1, 0));
   sim.step();
   EXPECT_NEAR(sim.mechanism().bodies[1].linear_velocity.y(), -dt, 1e-15);
+}
+
+// ---- issue 14: runs that come apart ----
+
+// The first step at which run_failure refuses a run of `steps` steps ("" if none), with the
+// mechanism's size at the start.
+std::string first_failure(const Mechanism& m, SolverKind kind, int steps, double* error_max = nullptr) {
+  StepOptions options;
+  options.solver.kind = kind;
+  options.diagnostics = true;
+  const double size = mechanism_size(m);
+  Simulation sim(m, options);
+  double worst = 0;
+  for (int s = 1; s <= steps; ++s) {
+    const StepReport r = sim.step();
+    worst = std::max(worst, r.error.position_max);
+    if (std::string why = run_failure(r, size); !why.empty()) return "step " + std::to_string(s) + ": " + why;
+  }
+  if (error_max) *error_max = worst;
+  return "";
+}
+
+// Class 10: at a mass ratio of 1e12 every solver, direct included, ended the 5 m heavy chain
+// 48.9 m off its constraints in 1000 steps (measured: `ldlpgs step heavy-chain-10-1e12
+// --steps 1000 --solver S`), and nothing said so. run_failure says so at every solver; within
+// the supported range (README, "Supported range": 1e6 here) the factoring solvers hold the
+// chain to 1e-9 m and are never refused.
+TEST(LdlpgsRobust, MassRatioBeyondTheSupportedRangeIsDetected) {
+  Mechanism heavy, supported;
+  ASSERT_TRUE(builtin_scene("heavy-chain-10-1e12", &heavy));
+  ASSERT_TRUE(builtin_scene("heavy-chain-10-1e6", &supported));
+  EXPECT_NEAR(mechanism_size(heavy), 4.75, 0.01);  // the chain (5 m) from its top anchor to the load's centre
+  for (SolverKind kind : {SolverKind::direct, SolverKind::ldl_pgs, SolverKind::pgs, SolverKind::block_gs}) {
+    SCOPED_TRACE(to_string(kind));
+    const std::string why = first_failure(heavy, kind, 1000);
+    EXPECT_NE(why.find("it came apart"), std::string::npos) << why;
+  }
+  for (SolverKind kind : {SolverKind::direct, SolverKind::ldl_pgs}) {
+    double error = 0;
+    EXPECT_EQ(first_failure(supported, kind, 1000, &error), "") << to_string(kind);
+    EXPECT_LT(error, 1e-9) << to_string(kind);
+  }
+  StepReport nan;
+  nan.energy = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(run_failure(nan, 1), "non-finite state");
+}
+
+// The long run: 1e4 steps of every built-in scene with every solver (direct only where it
+// applies: no limits or ropes) end finite or refused by run_failure with its reason, and the
+// factoring solvers are never refused. About 10 s in Release; under AddressSanitizer (CI's
+// sanitizer build) 2000 steps, to stay within a few minutes.
+#ifdef __SANITIZE_ADDRESS__
+constexpr int kLongRunSteps = 2000;
+#else
+constexpr int kLongRunSteps = 10000;
+#endif
+TEST(LdlpgsRobust, LongRunOfEveryBuiltInSceneIsFiniteOrNamesItsFailure) {
+  for (const std::string& name : builtin_scene_names()) {
+    Mechanism m;
+    ASSERT_TRUE(builtin_scene(name, &m));
+    for (SolverKind kind : {SolverKind::pgs, SolverKind::block_gs, SolverKind::ldl_pgs, SolverKind::direct}) {
+      if (kind == SolverKind::direct && m.first_inequality() >= 0) continue;
+      SCOPED_TRACE(name + " " + to_string(kind));
+      StepOptions options;
+      options.solver.kind = kind;
+      options.diagnostics = true;
+      const double size = mechanism_size(m);
+      Simulation sim(m, options);
+      std::string why;
+      int s = 1;
+      for (; s <= kLongRunSteps && why.empty(); ++s) why = run_failure(sim.step(), size);
+      if (why.empty()) {
+        for (const RigidBody& b : sim.mechanism().bodies)
+          EXPECT_TRUE(b.position.allFinite() && b.linear_velocity.allFinite()) << b.name;
+      }
+      if (kind == SolverKind::ldl_pgs || kind == SolverKind::direct) {
+        EXPECT_EQ(why, "") << "step " << s - 1;
+      }
+      std::printf("%-22s %-8s %s\n", name.c_str(), to_string(kind), why.empty() ? "finite" : why.c_str());
+    }
+  }
 }
 
 }  // namespace
