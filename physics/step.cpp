@@ -11,6 +11,7 @@
 
 #include <Eigen/Geometry>
 
+#include "ldlpgs/physics/scene.h"  // format_number
 #include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
@@ -412,8 +413,13 @@ RigidBody& Simulation::writable(int body, const char* what, bool dynamic_only) {
 }
 
 namespace {
-void require_finite(const Eigen::Vector3d& v, const char* what, int body) {
+// Finite and within MechanismRanges' bound `max` (physics/mechanism.h): what a scene file may hold
+// is what a caller may set, so that nothing computed from it overflows (issue 14, class 5).
+void require_within(const Eigen::Vector3d& v, double max, const char* what, int body) {
   if (!v.allFinite()) throw InputError(std::string(what) + ": body " + std::to_string(body) + ": value not finite");
+  if (v.cwiseAbs().maxCoeff() > max)
+    throw InputError(std::string(what) + ": body " + std::to_string(body) + ": a component beyond +-" +
+                     format_number(max) + " (physics/mechanism.h: MechanismRanges)");
 }
 
 // A unit quaternion within 1e-6 (the caller normalizes it).
@@ -428,7 +434,7 @@ void require_unit(const Eigen::Quaterniond& q, const char* what, int body) {
 void Simulation::set_position(int body, const Eigen::Vector3d& position) {
   evaluated_valid_ = false;  // (even if refused below: nothing is lost but one evaluation)
   RigidBody& b = writable(body, "set_position", false);
-  require_finite(position, "set_position", body);
+  require_within(position, MechanismRanges::coordinate_max, "set_position", body);
   b.position = position;
 }
 
@@ -441,13 +447,13 @@ void Simulation::set_orientation(int body, const Eigen::Quaterniond& orientation
 
 void Simulation::set_linear_velocity(int body, const Eigen::Vector3d& velocity) {
   RigidBody& b = writable(body, "set_linear_velocity", true);
-  require_finite(velocity, "set_linear_velocity", body);
+  require_within(velocity, MechanismRanges::velocity_max, "set_linear_velocity", body);
   b.linear_velocity = velocity;
 }
 
 void Simulation::set_angular_velocity(int body, const Eigen::Vector3d& velocity) {
   RigidBody& b = writable(body, "set_angular_velocity", true);
-  require_finite(velocity, "set_angular_velocity", body);
+  require_within(velocity, MechanismRanges::velocity_max, "set_angular_velocity", body);
   b.angular_velocity = velocity;
 }
 
@@ -490,7 +496,8 @@ void Simulation::set_positions(std::span<const double> in) {
   evaluated_valid_ = false;  // (even if refused below: nothing is lost but one evaluation)
   require_size(in.size(), 3, mechanism_.bodies.size(), "set_positions");
   for (size_t b = 0; b < mechanism_.bodies.size(); ++b)
-    require_finite(Eigen::Vector3d(in[3 * b], in[3 * b + 1], in[3 * b + 2]), "set_positions", static_cast<int>(b));
+    require_within(Eigen::Vector3d(in[3 * b], in[3 * b + 1], in[3 * b + 2]), MechanismRanges::coordinate_max, "set_positions",
+                   static_cast<int>(b));
   for (size_t b = 0; b < mechanism_.bodies.size(); ++b)
     mechanism_.bodies[b].position = Eigen::Vector3d(in[3 * b], in[3 * b + 1], in[3 * b + 2]);
 }
@@ -507,8 +514,8 @@ void Simulation::set_velocities(std::span<const double> in) {
   require_size(in.size(), 6, mechanism_.bodies.size(), "set_velocities");
   for (size_t b = 0; b < mechanism_.bodies.size(); ++b) {
     const Eigen::Vector3d v(in[6 * b], in[6 * b + 1], in[6 * b + 2]), w(in[6 * b + 3], in[6 * b + 4], in[6 * b + 5]);
-    require_finite(v, "set_velocities", static_cast<int>(b));
-    require_finite(w, "set_velocities", static_cast<int>(b));
+    require_within(v, MechanismRanges::velocity_max, "set_velocities", static_cast<int>(b));
+    require_within(w, MechanismRanges::velocity_max, "set_velocities", static_cast<int>(b));
     if (mechanism_.bodies[b].is_static && !(v.isZero(0) && w.isZero(0)))
       throw InputError("set_velocities: body " + std::to_string(b) + " (" + mechanism_.bodies[b].name +
                        ") is static: its velocity must be zero");
@@ -522,8 +529,8 @@ void Simulation::set_velocities(std::span<const double> in) {
 
 void Simulation::apply_force(int body, const Eigen::Vector3d& force, const Eigen::Vector3d& torque) {
   writable(body, "apply_force", true);
-  require_finite(force, "apply_force", body);
-  require_finite(torque, "apply_force", body);
+  require_within(force, MechanismRanges::load_max, "apply_force", body);
+  require_within(torque, MechanismRanges::load_max, "apply_force", body);
   for (int i = 0; i < 3; ++i) {
     load_[6 * body + i] += force[i];
     load_[6 * body + 3 + i] += torque[i];
@@ -532,18 +539,23 @@ void Simulation::apply_force(int body, const Eigen::Vector3d& force, const Eigen
 
 void Simulation::apply_force_at(int body, const Eigen::Vector3d& force, const Eigen::Vector3d& point) {
   const RigidBody& b = writable(body, "apply_force_at", true);
-  require_finite(point, "apply_force_at", body);
-  require_finite(force, "apply_force_at", body);
+  require_within(point, MechanismRanges::coordinate_max, "apply_force_at", body);
+  require_within(force, MechanismRanges::load_max, "apply_force_at", body);
   apply_force(body, force, (point - b.position).cross(force));
 }
 
 void Simulation::set_gravity(const Eigen::Vector3d& gravity) {
-  if (!gravity.allFinite()) throw InputError("set_gravity: value not finite");
+  if (!gravity.allFinite() || gravity.cwiseAbs().maxCoeff() > MechanismRanges::velocity_max)
+    throw InputError("set_gravity: a component not finite or beyond +-" + format_number(MechanismRanges::velocity_max) +
+                     " m/s^2 (physics/mechanism.h: MechanismRanges)");
   mechanism_.gravity = gravity;
 }
 
 void Simulation::set_timestep(double timestep) {
-  if (!(timestep > 0) || !std::isfinite(timestep)) throw InputError("set_timestep: the timestep must be finite and > 0");
+  if (!(timestep >= MechanismRanges::timestep_min && timestep <= MechanismRanges::timestep_max))
+    throw InputError("set_timestep: the timestep " + format_number(timestep) + " s is outside [" +
+                     format_number(MechanismRanges::timestep_min) + ", " + format_number(MechanismRanges::timestep_max) +
+                     "] s (physics/mechanism.h: MechanismRanges)");
   mechanism_.timestep = timestep;
 }
 

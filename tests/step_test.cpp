@@ -731,6 +731,40 @@ TEST(SimulationState, RefusesNonFiniteValues) {
   EXPECT_THROW(sim.set_timestep(0), InputError);
 }
 
+// issue 14, class 5, for the API: a caller may set only what a scene file may hold
+// (MechanismRanges), since what is computed from more overflows: a position of 1e300 squared in
+// the inertia shift, a timestep of 1e-300 divided into the velocity terms. Before, only
+// non-finite values were refused.
+TEST(SimulationState, RefusesValuesBeyondTheMechanismRanges) {
+  using R = MechanismRanges;
+  Simulation sim(hanging_chain(2), options(SolverKind::direct));
+  const Eigen::Vector3d before = sim.mechanism().bodies[1].position;
+  EXPECT_THROW(sim.set_position(1, Eigen::Vector3d(0, 10 * R::coordinate_max, 0)), InputError);
+  EXPECT_THROW(sim.set_linear_velocity(1, Eigen::Vector3d(-10 * R::velocity_max, 0, 0)), InputError);
+  EXPECT_THROW(sim.set_angular_velocity(1, Eigen::Vector3d(0, 0, 10 * R::velocity_max)), InputError);
+  EXPECT_THROW(sim.apply_force(1, Eigen::Vector3d(0, 0, 1e300)), InputError);
+  EXPECT_THROW(sim.apply_force_at(1, Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(1e300, 0, 0)), InputError);
+  std::vector<double> x(9, 0.0);
+  x[4] = 1e300;
+  EXPECT_THROW(sim.set_positions(x), InputError);
+  std::vector<double> v(18, 0.0);
+  v[9] = 1e300;
+  EXPECT_THROW(sim.set_velocities(v), InputError);
+  EXPECT_EQ(sim.mechanism().bodies[1].position, before);
+  EXPECT_THROW(sim.set_gravity(Eigen::Vector3d(0, -1e300, 0)), InputError);
+  EXPECT_THROW(sim.set_timestep(1e-300), InputError);
+  EXPECT_THROW(sim.set_timestep(1e300), InputError);
+  // The bounds themselves are accepted.
+  EXPECT_NO_THROW(sim.set_position(1, Eigen::Vector3d(0, R::coordinate_max, 0)));
+  EXPECT_NO_THROW(sim.set_timestep(R::timestep_min));
+  EXPECT_NO_THROW(sim.set_timestep(R::timestep_max));
+  try {
+    sim.set_timestep(1e300);
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("1e+300"), std::string::npos) << e.what();
+  }
+}
+
 TEST(SimulationState, RefusesANonUnitQuaternion) {
   Simulation sim(hanging_chain(2), options(SolverKind::direct));
   EXPECT_THROW(sim.set_orientation(1, Eigen::Quaterniond(1.01, 0, 0, 0)), InputError);
