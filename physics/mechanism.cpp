@@ -114,31 +114,34 @@ std::string constraint_label(const Mechanism& m, int constraint) {
   return s;
 }
 
-void check_ranges(const Mechanism& m, const std::string& source) {
-  using R = MechanismRanges;
-  // |x| <= max and, when min > 0, x >= min (false for NaN)
-  auto within = [](double x, double min, double max) { return min > 0 ? x >= min && x <= max : std::abs(x) <= max; };
-  auto fail = [&](const std::string& what, const char* quantity, double x, double min, double max, const char* unit) {
-    std::string s = printable(source);
-    s += ": ";
+void check_range(const std::string& source, const std::string& what, const char* quantity, double x, double min,
+                 double max, const char* unit) {
+  if (min > 0 ? x >= min && x <= max : std::abs(x) <= max) return;
+  std::string s = printable(source);
+  s += ": ";
+  if (!what.empty()) {
     s += what;
     s += ": ";
-    s += quantity;
-    s += " ";
-    s += format_number(x);
-    s += min > 0 ? " outside [" : " beyond +-";
-    if (min > 0) {
-      s += format_number(min);
-      s += ", ";
-    }
-    s += format_number(max);
-    s += min > 0 ? "] " : " ";
-    s += unit;
-    s += " (physics/mechanism.h: MechanismRanges; beyond them what is computed from it overflows)";
-    throw InputError(s);
-  };
+  }
+  s += quantity;
+  s += " ";
+  s += format_number(x);
+  s += min > 0 ? " outside [" : " beyond +-";
+  if (min > 0) {
+    s += format_number(min);
+    s += ", ";
+  }
+  s += format_number(max);
+  s += min > 0 ? "] " : " ";
+  s += unit;
+  s += " (physics/mechanism.h: MechanismRanges; beyond them what is computed from it overflows)";
+  throw InputError(s);
+}
+
+void check_ranges(const Mechanism& m, const std::string& source) {
+  using R = MechanismRanges;
   auto check = [&](const std::string& what, const char* quantity, double x, double min, double max, const char* unit) {
-    if (!within(x, min, max)) fail(what, quantity, x, min, max, unit);
+    check_range(source, what, quantity, x, min, max, unit);
   };
   auto check3 = [&](const std::string& what, const char* quantity, const Eigen::Vector3d& v, double min, double max,
                     const char* unit) {

@@ -60,5 +60,10 @@ std::string constraint_label(const Mechanism& mechanism, int constraint);
 // Throws an InputError "source: body \"hub\": mass 1e-320 outside [1e-50, 1e50] kg" naming the
 // first body, constraint or setting outside MechanismRanges (non-finite values included).
 void check_ranges(const Mechanism& mechanism, const std::string& source);
+// One value against one range, with check_ranges' message ("source: what: quantity x outside
+// [min, max] unit", "what: " left out when empty): x in [min, max] when min > 0, |x| <= max
+// otherwise; NaN never is. For the setters of a running simulation (physics/step.h).
+void check_range(const std::string& source, const std::string& what, const char* quantity, double x, double min,
+                 double max, const char* unit);
 
 }  // namespace ldlpgs
