@@ -67,6 +67,7 @@ Command add_bench_command(CLI::App& app) {
     ProblemArgs problem;
     std::string ordering = "meca";
     int dense_max = 1000;
+    SymbolicOptions symbolic;
     bool json = false;
   };
   auto o = std::make_shared<Options>();
@@ -74,12 +75,19 @@ Command add_bench_command(CLI::App& app) {
   add_problem_options(cmd, &o->problem);
   add_ordering_option(cmd, &o->ordering, "Ordering name (all solvers use its scalar permutation)");
   cmd->add_option("--dense-max", o->dense_max, "Largest dimension Eigen's dense LDLT is timed on")->capture_default_str();
+  cmd->add_option("--supernode-min-rows", o->symbolic.supernode_min_rows,
+                  "Rows from which a run of nested pivots is one supernode (0: none)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--blas-min-rows", o->symbolic.blas_min_rows, "Rows from which a supernode is eliminated with BLAS (0: never)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   add_json_flag(cmd, &o->json);
   return [o] {
     const OrderingInfo& info = find_ordering(o->ordering);
     const Problem p = load_problem(o->problem.spec, o->problem.blocks, o->problem.max_block);
     const Ordering ordering = compute_ordering(info, p.blocks, p.a);
-    auto ours = std::make_unique<LdlpgsSolver>(p.a, p.blocks, ordering);
+    auto ours = std::make_unique<LdlpgsSolver>(p.a, p.blocks, ordering, o->symbolic);
     const double flops = ours->symbolic().flops();
     const std::string blas = blas_in_use();  // before any timing: it may pin OpenBLAS's threads
     // each solver is timed for at least 0.2 s, and a large matrix's factorizations take seconds
@@ -103,7 +111,8 @@ Command add_bench_command(CLI::App& app) {
       nlohmann::json j = {{"matrix", p.name}, {"n", p.a.n}, {"blocks", p.blocks.num_blocks()},
                           {"ordering", ordering.name}, {"flops", flops}, {"gflops", number_or_null(gflops)},
                           {"symbolic_bytes", ours->symbolic().memory_bytes()},
-                          {"rsi_entries", ours->symbolic().rsi_size()}, {"blas", blas}};
+                          {"rsi_entries", ours->symbolic().rsi_size()}, {"supernodes", ours->symbolic().num_supernodes()},
+                          {"blas", blas}};
       // ours unprefixed, every other solver's fields prefixed with its name (null: not run)
       std::vector<std::string_view> names = {mine.name};
       names.insert(names.end(), direct_solver_names().begin(), direct_solver_names().end());
@@ -119,10 +128,10 @@ Command add_bench_command(CLI::App& app) {
       }
       print_json(json_header("bench", std::move(j)));
     } else {
-      std::printf("%s: n = %d, %d blocks, ordering %s, %.0f flops, symbolic phase holds %lld bytes\n", p.name.c_str(),
-                  p.a.n, p.blocks.num_blocks(), ordering.name.c_str(), flops,
-                  static_cast<long long>(ours->symbolic().memory_bytes()));
-      std::printf("BLAS (CHOLMOD supernodal): %s\n", blas.c_str());
+      std::printf("%s: n = %d, %d blocks, ordering %s, %.0f flops, %d supernodes, symbolic phase holds %lld bytes\n",
+                  p.name.c_str(), p.a.n, p.blocks.num_blocks(), ordering.name.c_str(), flops,
+                  ours->symbolic().num_supernodes(), static_cast<long long>(ours->symbolic().memory_bytes()));
+      std::printf("BLAS (ours for supernodes, CHOLMOD supernodal): %s\n", blas.c_str());
       std::printf("%-20s %12s %12s %12s %14s %16s\n", "solver", "factor us", "solve us", "GFlop/s",
                   "backward err", "fact+solve ratio");
       for (const Timing& t : timings) {

@@ -11,8 +11,9 @@ namespace ldlpgs {
 
 class LdlpgsSolver final : public DirectSolver {
  public:
-  LdlpgsSolver(const SymmetricCsc& a, const BlockPattern& blocks, const Ordering& ordering)
-      : a_(a), symbolic_(Symbolic::analyze(a, blocks, ordering)), numeric_(symbolic_) {}
+  LdlpgsSolver(const SymmetricCsc& a, const BlockPattern& blocks, const Ordering& ordering,
+               const SymbolicOptions& options = {})
+      : a_(a), symbolic_(Symbolic::analyze(a, blocks, ordering, options)), numeric_(symbolic_) {}
   LdlpgsSolver(const LdlpgsSolver&) = delete;  // numeric_ points at symbolic_
   LdlpgsSolver& operator=(const LdlpgsSolver&) = delete;
 

@@ -113,27 +113,50 @@ inline void end_l(double* __restrict el, const double* __restrict node, int h, i
 }
 
 // S <- S - E L^T (the talk's reduce<degree>, most of the time) for one edge block b of the
-// column, as W Y^T (begin_l): e holds W, lb the DB rows of Y of block b. Each of the `count` runs
-// (target, row, rows) subtracts rows [row, row + rows) of W times Y_b^T from `rows` consecutive
-// target rows of stride DB (the node block of b and/or edge blocks below it). The first run
-// starts with b's own DB rows landing in its node block (symbolic.cpp: a == b comes first), of
-// which only the lower triangle is ever read: its upper DB(DB-1)/2 products are skipped, nearly
-// half the reduction of a column with one edge block (a chain's). Both sizes fixed at compile
-// time make each target row DB independent unrolled dot products. Returns the runs' end.
+// column, as W Y^T (begin_l): e holds W, lb the DB rows of Y of block b. `runs` is b's entry in
+// the RSI (symbolic.h): the number of runs, the target's row stride ld, then per run
+// (target, row, rows), which subtracts rows [row, row + rows) of W times Y_b^T from `rows` target
+// rows of stride ld (the node block of b's supernode and/or rows below it). The first run starts
+// with b's own DB rows landing on the diagonal (symbolic.cpp: a == b comes first), of which only
+// the lower triangle is ever read: its upper DB(DB-1)/2 products are skipped, nearly half the
+// reduction of a column with one edge block (a chain's). Both sizes fixed at compile time make
+// each target row DB independent unrolled dot products. Returns the end of b's entry.
 template <int N, int DB>
 inline const int32_t* reduce_runs(double* __restrict values, const double* __restrict e, const double* __restrict lb,
-                                  const int32_t* runs, int count, int n, int db) {
+                                  const int32_t* runs, int n, int db) {
   const int m = N ? N : n;
   const int nb = DB ? DB : db;
+  const int count = runs[0], ld = runs[1];
+  runs += 2;
   for (int i = 0; i < count; ++i, runs += 3) {
     double* __restrict t = values + runs[0];
     const double* er = e + runs[1] * m;
     int r = 0;
     if (i == 0)
-      for (; r < nb; ++r, t += nb, er += m)
+      for (; r < nb; ++r, t += ld, er += m)
         for (int c = 0; c <= r; ++c) t[c] -= dot<N>(er, lb + c * m, m);
-    for (; r < runs[2]; ++r, t += nb, er += m)
+    for (; r < runs[2]; ++r, t += ld, er += m)
       for (int c = 0; c < nb; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+  }
+  return runs;
+}
+
+// The same subtraction for a BLAS supernode (dense.h), whose product C = W Y^T is already
+// computed: c points at C's column of b's first row (row stride ldc); each run subtracts its
+// rows of C, nb columns wide, lower triangle only on the diagonal.
+inline const int32_t* scatter_runs(double* __restrict values, const double* __restrict c, const int32_t* runs, int ldc,
+                                   int nb) {
+  const int count = runs[0], ld = runs[1];
+  runs += 2;
+  for (int i = 0; i < count; ++i, runs += 3) {
+    double* __restrict t = values + runs[0];
+    const double* cr = c + static_cast<int64_t>(runs[1]) * ldc;
+    int r = 0;
+    if (i == 0)
+      for (; r < nb; ++r, t += ld, cr += ldc)
+        for (int j = 0; j <= r; ++j) t[j] -= cr[j];
+    for (; r < runs[2]; ++r, t += ld, cr += ldc)
+      for (int j = 0; j < nb; ++j) t[j] -= cr[j];
   }
   return runs;
 }

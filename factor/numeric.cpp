@@ -12,6 +12,7 @@
 
 #include "ldlpgs/sparse/error.h"
 
+#include "ldlpgs/factor/dense.h"
 #include "ldlpgs/factor/kernels.h"
 
 namespace ldlpgs {
@@ -73,13 +74,13 @@ bool Numeric::load(const SymmetricCsc& a, const FactorOptions& options) {
 void Numeric::prepare(const FactorOptions& options) {
   const Symbolic& s = *symbolic_;
   double largest = 0, smallest = std::numeric_limits<double>::infinity();  // of the nonzero |H_ii|
-  for (int k = 0; k < s.num_pivots(); ++k) {
-    const int d = s.size(k);
-    double* node = values_.data() + s.node_offset(k);
-    for (int l = 0; l < d; ++l) {
+  for (int t = 0; t < s.num_supernodes(); ++t) {
+    const int64_t d = s.supernode_size(t);
+    double* node = values_.data() + s.node_offset(t);
+    for (int64_t l = 0; l < d; ++l) {
       node[l * d + l] *= 1 + options.regularization;
       const double h = std::abs(node[l * d + l]);
-      diag_[s.row_start(k) + l] = h;
+      diag_[s.supernode_row_start(t) + l] = h;
       largest = std::max(largest, h);
       if (h > 0) smallest = std::min(smallest, h);
     }
@@ -127,16 +128,16 @@ FactorInfo Numeric::factorize_loaded(const FactorOptions& options) {
   uint64_t not_finite = 0;  // over every packed value (fill and unused entries are 0)
   for (const double x : values_) not_finite |= not_finite_bit(x);
   if (not_finite) {
-    // The first offending entry's pivot k holds its offset, in the node block (row l of N_k) or
-    // in row r of E_{*,k}: that permuted row, in the original order, names it.
+    // The first offending entry's supernode t holds its offset, in the node block (row l) or in
+    // row r of its E: that permuted row, in the original order, names it.
     const int64_t at = std::find_if(values_.begin(), values_.end(), [](double x) { return !std::isfinite(x); }) -
                        values_.begin();
-    int k = 0;
-    while (s.node_offset(k + 1) <= at) ++k;
-    const int d = s.size(k);
-    const int64_t local = at - s.node_offset(k);
-    const int row = local < int64_t{d} * d ? s.row_start(k) + static_cast<int>(local / d)
-                                           : s.column_rows(k)[(local - int64_t{d} * d) / d];
+    int t = 0;
+    while (s.node_offset(t + 1) <= at) ++t;
+    const int64_t d = s.supernode_size(t);
+    const int64_t local = at - s.node_offset(t);
+    const int row = local < d * d ? s.supernode_row_start(t) + static_cast<int>(local / d)
+                                  : s.column_rows(t)[(local - d * d) / d];
     return refuse_not_finite(s.perm()[row], values_[at]);
   }
   prepare(options);
@@ -184,38 +185,51 @@ FactorInfo Numeric::eliminate() {
   const Symbolic& s = *symbolic_;
   double* v = values_.data();
   int processed = s.num_rows();  // rows with a completed pivot
-  for (int k = 0; k < s.num_pivots(); ++k) {
-    const int d = s.size(k), h = s.height(k);
-    double* node = v + s.node_offset(k);
-    double* e = node + d * d;
-    const double* floor = floor_.data() + s.row_start(k);
-    double* inv_d = inv_d_.data() + s.row_start(k);
+  for (int t = 0; t < s.num_supernodes(); ++t) {
+    const int d = s.supernode_size(t), h = s.supernode_height(t);
+    double* node = v + s.node_offset(t);
+    double* e = node + int64_t{d} * d;
+    const double* floor = floor_.data() + s.supernode_row_start(t);
+    double* inv_d = inv_d_.data() + s.supernode_row_start(t);
+    const int m = static_cast<int>(s.supernode_edges(t).size());
+    const int32_t* rsi = s.rsi(t);
+    const int* rows = s.edge_rows(t);
+    const int* sizes = s.edge_sizes(t);
+    double* w = scratch_.data();
     int bad = -1;
-    kernels::dispatch_size(d, [&](auto size) {
-      constexpr int N = decltype(size)::value;
-      bad = kernels::ldl_node<N>(node, floor, inv_d, d);
-      if (bad >= 0) return;
-      // S -= W Y^T with W in the scratch, Y over E, then L over Y (kernels::begin_l).
-      double* w = scratch_.data();
-      kernels::begin_l<N>(e, w, node, inv_d, h, d);
-      const int m = static_cast<int>(s.edges(k).size());
-      const int32_t* rsi = s.rsi(k);
-      const int* rows = s.edge_rows(k);
-      const int* sizes = s.edge_sizes(k);
-      for (int b = 0; b < m; ++b) {
-        kernels::dispatch_size(sizes[b], [&](auto size_b) {
-          constexpr int DB = decltype(size_b)::value;
-          rsi = kernels::reduce_runs<N, DB>(v, w, e + rows[b] * d, rsi + 1, rsi[0], d, sizes[b]);
-        });
+    if (s.supernode_blas(t)) {
+      // A wide supernode (dense.h): the node by panels, W and Y by dtrsm, C = W Y^T by dgemm,
+      // then C scattered through the same runs the small kernels walk.
+      bad = dense::ldl_blocked(node, d, d, floor, inv_d, w);
+      if (bad < 0) {
+        dense::begin_l(e, w, node, inv_d, h, d);
+        double* c = w + int64_t{h} * d;
+        dense::lower_product(w, e, h, d, c);
+        for (int b = 0; b < m; ++b) rsi = kernels::scatter_runs(v, c + rows[b], rsi, h, sizes[b]);
+        dense::end_l(e, node, h, d);
       }
-      kernels::end_l<N>(e, node, h, d);
-    });
+    } else {
+      kernels::dispatch_size(d, [&](auto size) {
+        constexpr int N = decltype(size)::value;
+        bad = kernels::ldl_node<N>(node, floor, inv_d, d);
+        if (bad >= 0) return;
+        // S -= W Y^T with W in the scratch, Y over E, then L over Y (kernels::begin_l).
+        kernels::begin_l<N>(e, w, node, inv_d, h, d);
+        for (int b = 0; b < m; ++b) {
+          kernels::dispatch_size(sizes[b], [&](auto size_b) {
+            constexpr int DB = decltype(size_b)::value;
+            rsi = kernels::reduce_runs<N, DB>(v, w, e + int64_t{rows[b]} * d, rsi, d, sizes[b]);
+          });
+        }
+        kernels::end_l<N>(e, node, h, d);
+      });
+    }
     if (bad >= 0) {
-      const int row = s.row_start(k) + bad;
-      const double pivot = node[bad * d + bad];
+      const int row = s.supernode_row_start(t) + bad;
+      const double pivot = node[int64_t{bad} * d + bad];
       processed = row;
       info_.status = std::isfinite(pivot) ? FactorStatus::zero_pivot : FactorStatus::not_finite;
-      info_.block = s.block(k);
+      info_.block = s.block(s.pivot_of_row(row));
       info_.row = s.perm()[row];
       info_.pivot = pivot;
       info_.inertia.zero = 1;
@@ -239,13 +253,12 @@ FactorInfo Numeric::eliminate() {
   if (negative > 0 && info_.status == FactorStatus::ok) {
     int r = 0;
     while (inv_d_[r] > 0) ++r;
-    int k = 0;
-    while (s.row_start(k + 1) <= r) ++k;
+    const int k = s.pivot_of_row(r), t = s.supernode_of(k);
     info_.status = FactorStatus::indefinite;
     info_.block = s.block(k);
     info_.row = s.perm()[r];
-    const int l = r - s.row_start(k), d = s.size(k);
-    info_.pivot = values_[s.node_offset(k) + l * d + l];
+    const int64_t l = r - s.supernode_row_start(t), d = s.supernode_size(t);
+    info_.pivot = values_[s.node_offset(t) + l * d + l];
   }
   if (!std::isfinite(info_.min_pivot_ratio)) info_.min_pivot_ratio = 0;
   return info_;
@@ -279,21 +292,32 @@ void Numeric::solve(double* b, int nrhs, int ld) {
       for (int i = 0; i < n; ++i) w[i] = std::ldexp(w[i], -scale_);
     // L z = b column by column (z_k is final once the earlier columns are applied), then
     // N_k^-1 z_k, which no later column reads.
-    for (int k = 0; k < s.num_pivots(); ++k) {
-      const int d = s.size(k);
-      double* wk = w + s.row_start(k);
+    for (int t = 0; t < s.num_supernodes(); ++t) {
+      const int d = s.supernode_size(t);
+      double* wt = w + s.supernode_row_start(t);
+      if (s.supernode_blas(t)) {
+        dense::forward_column(w, wt, v + s.column_offset(t), s.column_rows(t), s.supernode_height(t), d, scratch_.data());
+        dense::solve_node(v + s.node_offset(t), inv_d_.data() + s.supernode_row_start(t), wt, d);
+        continue;
+      }
       kernels::dispatch_size(d, [&](auto size) {
         constexpr int N = decltype(size)::value;
-        kernels::forward_column<N>(w, wk, v + s.column_offset(k), s.column_rows(k), s.height(k), d);
-        kernels::solve_node<N>(v + s.node_offset(k), inv_d_.data() + s.row_start(k), wk, d);
+        kernels::forward_column<N>(w, wt, v + s.column_offset(t), s.column_rows(t), s.supernode_height(t), d);
+        kernels::solve_node<N>(v + s.node_offset(t), inv_d_.data() + s.supernode_row_start(t), wt, d);
       });
     }
     // L^T x = y in reverse pivot order.
-    for (int k = s.num_pivots() - 1; k >= 0; --k) {
-      const int d = s.size(k);
+    for (int t = s.num_supernodes() - 1; t >= 0; --t) {
+      const int d = s.supernode_size(t);
+      if (s.supernode_blas(t)) {
+        dense::backward_column(w, w + s.supernode_row_start(t), v + s.column_offset(t), s.column_rows(t),
+                               s.supernode_height(t), d, scratch_.data());
+        continue;
+      }
       kernels::dispatch_size(d, [&](auto size) {
         constexpr int N = decltype(size)::value;
-        kernels::backward_column<N>(w, w + s.row_start(k), v + s.column_offset(k), s.column_rows(k), s.height(k), d);
+        kernels::backward_column<N>(w, w + s.supernode_row_start(t), v + s.column_offset(t), s.column_rows(t),
+                                    s.supernode_height(t), d);
       });
     }
     for (int i = 0; i < n; ++i) x[perm[i]] = w[i];
@@ -306,16 +330,17 @@ SymmetricCsc Numeric::scalar_ldl() const {
   l.n = s.num_rows();
   l.col_ptr.assign(1, 0);
   const double* v = values_.data();
-  for (int k = 0; k < s.num_pivots(); ++k) {
-    const int d = s.size(k), h = s.height(k);
-    const double* node = v + s.node_offset(k);
-    const double* lb = v + s.column_offset(k);
-    const int* rows = s.column_rows(k);
+  for (int t = 0; t < s.num_supernodes(); ++t) {
+    const int64_t d = s.supernode_size(t), h = s.supernode_height(t);
+    const int r0 = s.supernode_row_start(t);
+    const double* node = v + s.node_offset(t);
+    const double* lb = v + s.column_offset(t);
+    const int* rows = s.column_rows(t);
     for (int c = 0; c < d; ++c) {
-      l.row_idx.push_back(s.row_start(k) + c);
+      l.row_idx.push_back(r0 + c);
       l.values.push_back(std::ldexp(node[c * d + c], scale_));  // D of H, not of 2^-e H
       for (int r = c + 1; r < d; ++r) {
-        l.row_idx.push_back(s.row_start(k) + r);
+        l.row_idx.push_back(r0 + r);
         l.values.push_back(node[r * d + c]);
       }
       // Row r of the scalar L below the node: (L_{*,k} L_kk)[r][c], L_kk unit lower.

@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "ldlpgs/factor/dense.h"
 #include "ldlpgs/ordering/elimination_graph.h"
 #include "ldlpgs/sparse/error.h"
 
@@ -27,12 +28,14 @@ void unmark_column(const std::vector<int>& edge_ptr, const std::vector<int>& edg
 
 }  // namespace
 
-Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, const Ordering& ordering) {
-  if (ordering.level == Level::scalar) return analyze(pattern, BlockPattern::unit(pattern), ordering.pivots);
-  return analyze(pattern, blocks, ordering.pivots);
+Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, const Ordering& ordering,
+                           const SymbolicOptions& options) {
+  if (ordering.level == Level::scalar) return analyze(pattern, BlockPattern::unit(pattern), ordering.pivots, options);
+  return analyze(pattern, blocks, ordering.pivots, options);
 }
 
-Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, std::span<const int> pivots) {
+Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, std::span<const int> pivots,
+                           const SymbolicOptions& options) {
   check_symmetric_csc(pattern, "symbolic analysis");
   if (blocks.num_rows() != pattern.n)
     throw ArgumentError("symbolic analysis: the block partition covers " + std::to_string(blocks.num_rows()) +
@@ -57,7 +60,7 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
   for (int k = 0; k < np; ++k)
     for (int l = 0; l < s.size_[k]; ++l) s.perm_.push_back(blocks.block(pivots[k]).position + l);
 
-  // Column heights, edge rows within their column, and the layout.
+  // Column heights, edge rows within their column, and the counts of L, per pivot.
   s.edge_ptr_ = elim.ptr;
   s.edge_pivot_ = elim.edges;
   s.edge_fill_ = elim.fill;
@@ -65,8 +68,6 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
   s.edge_row_.resize(s.edge_pivot_.size());
   s.edge_size_.resize(s.edge_pivot_.size());
   s.height_.assign(np, 0);
-  s.node_offset_.assign(np + 1, 0);
-  s.l_rows_ptr_.assign(np + 1, 0);
   for (int k = 0; k < np; ++k) {
     int h = 0;
     for (int e = s.edge_ptr_[k]; e < s.edge_ptr_[k + 1]; ++e) {
@@ -76,106 +77,147 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
     }
     const int64_t d = s.size_[k];
     s.height_[k] = h;
-    s.node_offset_[k + 1] = s.node_offset_[k] + d * d + int64_t{h} * d;
-    s.l_rows_ptr_[k + 1] = s.l_rows_ptr_[k] + h;
     s.nnz_l_ += d * (d + 1) / 2 + int64_t{h} * d;
     s.flops_ += static_cast<double>(d * (d + 1) * (2 * d + 1) / 6 + int64_t{h} * d * (d + 1) + d * h * h);
-    s.scratch_size_ = std::max(s.scratch_size_, int64_t{h} * d);
     s.max_size_ = std::max(s.max_size_, s.size_[k]);
+  }
+
+  // Supernodes: maximal runs of nested pivots (k's first edge block is k + 1 and the rest of its
+  // column is k + 1's: since k + 1 is then k's parent in the elimination tree, the rest is a subset
+  // of struct(k + 1), equal when the heights match), kept when wide enough (SymbolicOptions).
+  auto nests = [&](int k) {
+    return s.edge_ptr_[k + 1] > s.edge_ptr_[k] && s.edge_pivot_[s.edge_ptr_[k]] == k + 1 &&
+           s.height_[k] == s.size_[k + 1] + s.height_[k + 1];
+  };
+  s.sn_begin_.assign(1, 0);
+  for (int k = 0; k < np;) {
+    int end = k + 1;
+    while (end < np && nests(end - 1)) ++end;
+    if (options.supernode_min_rows > 0 && s.row_start_[end] - s.row_start_[k] >= options.supernode_min_rows) {
+      s.sn_begin_.push_back(end);
+    } else {
+      for (int j = k + 1; j <= end; ++j) s.sn_begin_.push_back(j);
+    }
+    k = end;
+  }
+  const int ns = s.num_supernodes();
+  s.sn_of_pivot_.resize(np);
+  s.sn_blas_.assign(ns, 0);
+  s.sn_node_offset_.assign(ns + 1, 0);
+  s.l_rows_ptr_.assign(ns + 1, 0);
+  for (int t = 0; t < ns; ++t) {
+    for (int k = s.sn_begin_[t]; k < s.sn_begin_[t + 1]; ++k) s.sn_of_pivot_[k] = t;
+    const int64_t d = s.supernode_size(t), h = s.supernode_height(t);
+    s.sn_blas_[t] = options.blas_min_rows > 0 && d >= options.blas_min_rows;
+    s.sn_node_offset_[t + 1] = s.sn_node_offset_[t] + d * d + h * d;
+    s.l_rows_ptr_[t + 1] = s.l_rows_ptr_[t] + h;
+    const int64_t blas = s.sn_blas_[t] ? std::max(h * d + h * h, d * dense::kPanel) : 0;
+    s.scratch_size_ = std::max({s.scratch_size_, h * d, blas});
   }
   if (s.num_values() > std::numeric_limits<int32_t>::max())
     throw InputError("the factor needs " + std::to_string(s.num_values()) +
                      " values, more than the 32-bit reduction-scattering indices address");
-  s.l_rows_.reserve(s.l_rows_ptr_[np]);
-  for (int k = 0; k < np; ++k)
-    for (int j : s.edges(k))
+  s.l_rows_.reserve(s.l_rows_ptr_[ns]);
+  for (int t = 0; t < ns; ++t)
+    for (int j : s.supernode_edges(t))
       for (int l = 0; l < s.size_[j]; ++l) s.l_rows_.push_back(s.row_start_[j] + l);
 
-  // RSI: for each edge block b of column k (pivot jb = col[b]), the products E_a L_b^T of the
-  // blocks a >= b land in column jb: a == b in jb's node block, a > b in the edge block of
-  // col[a] in column jb, which the elimination game guarantees exists. Targets of consecutive a
-  // that are consecutive rows of column jb (node block, then its E, all with row stride d_jb)
-  // form one run: a panel of rows of E_k times L_b^T lands as one contiguous block. The talk
-  // keeps one index per scalar pair; a run is one index for up to all of them (papers/factor.md).
-  // Stored per pivot, per b: the number of runs, then (target, first row in E_k, rows) each.
-  s.rsi_ptr_.assign(np + 1, 0);
+  // Where row block p lands in supernode t's storage (rows of stride supernode_size(t)): inside
+  // t, the row of its node block; below, the row of t's E (marked by mark_column on t's last
+  // pivot). The elimination game guarantees one of the two for every block of struct(k), k in t.
   std::vector<int> mark(np, -1);  // row of an edge block in the marked column (size np)
-  for (int k = 0; k < np; ++k) {
-    const std::span<const int> col = s.edges(k);
+  auto target_row = [&](int t, int p) -> int64_t {
+    if (s.sn_of_pivot_[p] == t) return s.node_offset(t) + int64_t{s.row_start_[p] - s.supernode_row_start(t)} * s.supernode_size(t);
+    assert(mark[p] >= 0 && "the elimination game left out a fill block");
+    return s.column_offset(t) + int64_t{mark[p]} * s.supernode_size(t);
+  };
+
+  // RSI: for each edge block b of supernode t's column (pivot jb = col[b], in supernode u), the
+  // products E_a L_b^T of the blocks a >= b land in u at jb's columns: a == b on u's diagonal,
+  // a > b in u's node block or E (target_row). Targets of consecutive a that are consecutive
+  // rows of u (stride size(u)) form one run: a panel of rows of E times L_b^T lands as one
+  // contiguous block. The talk keeps one index per scalar pair; a run is one index for up to all
+  // of them (papers/factor.md). Stored per supernode, per b: the number of runs and the stride,
+  // then (target, first row in E, rows) each.
+  s.rsi_ptr_.assign(ns + 1, 0);
+  for (int t = 0; t < ns; ++t) {
+    const std::span<const int> col = s.supernode_edges(t);
+    const int* rows_in_e = s.edge_rows(t);
     const int m = static_cast<int>(col.size());
     for (int b = 0; b < m; ++b) {
-      const int jb = col[b];
+      const int jb = col[b], u = s.sn_of_pivot_[jb];
+      const int64_t stride = s.supernode_size(u), column = s.row_start_[jb] - s.supernode_row_start(u);
       const size_t header = s.rsi_.size();
-      s.rsi_.push_back(0);
-      mark_column(s.edge_ptr_, s.edge_pivot_, s.edge_row_, jb, mark);
+      s.rsi_.insert(s.rsi_.end(), {0, static_cast<int32_t>(stride)});
+      const int last_of_u = s.sn_begin_[u + 1] - 1;
+      mark_column(s.edge_ptr_, s.edge_pivot_, s.edge_row_, last_of_u, mark);
       int64_t next_target = -1;  // where a run's next row would land
       for (int a = b; a < m; ++a) {
-        int64_t target;
-        if (a == b) {
-          target = s.node_offset_[jb];
-        } else {
-          assert(mark[col[a]] >= 0 && "the elimination game left out a fill block");
-          target = s.column_offset(jb) + int64_t{mark[col[a]]} * s.size_[jb];
-        }
+        const int64_t target = target_row(u, col[a]) + column;
         const int rows = s.size_[col[a]];
         if (target == next_target) {
           s.rsi_.back() += rows;
         } else {
-          s.rsi_.insert(s.rsi_.end(), {static_cast<int32_t>(target), s.edge_row_[s.edge_ptr_[k] + a], rows});
+          s.rsi_.insert(s.rsi_.end(), {static_cast<int32_t>(target), rows_in_e[a], rows});
           ++s.rsi_[header];
         }
-        next_target = target + int64_t{rows} * s.size_[jb];
+        next_target = target + int64_t{rows} * stride;
       }
-      unmark_column(s.edge_ptr_, s.edge_pivot_, jb, mark);
+      unmark_column(s.edge_ptr_, s.edge_pivot_, last_of_u, mark);
     }
-    s.rsi_ptr_[k + 1] = static_cast<int64_t>(s.rsi_.size());
+    s.rsi_ptr_[t + 1] = static_cast<int64_t>(s.rsi_.size());
   }
 
-  // Load map: entry (r, c) of the lower triangle, r in block br, c in block bc. Same block: the
-  // node block's lower triangle. Otherwise the entry or its transpose lies in the edge block of
-  // the later pivot in the column of the earlier one. Entries are bucketed by that column so each
-  // column is marked once.
+  // Load map: entry (r, c) of the lower triangle, r in block br, c in block bc, lands in the
+  // supernode t of the earlier of the two pivots, at the later one's row (target_row) and the
+  // earlier one's column. Entries are bucketed by t so each supernode is marked once.
   const std::vector<int> block_of_row = blocks.block_of_row();
   s.load_map_.assign(pattern.nnz(), -1);
-  std::vector<int64_t> bucket_ptr(np + 1, 0);  // (size np+1)
-  std::vector<int64_t> bucket;                 // pattern entries by column of L (size nnz)
-  auto entry_column = [&](int r, int c) { return std::min(pos[block_of_row[r]], pos[block_of_row[c]]); };
+  std::vector<int64_t> bucket_ptr(ns + 1, 0);  // (size ns+1)
+  std::vector<int64_t> bucket;                 // pattern entries by supernode (size nnz)
+  auto entry_supernode = [&](int r, int c) {
+    return s.sn_of_pivot_[std::min(pos[block_of_row[r]], pos[block_of_row[c]])];
+  };
   for (int c = 0; c < pattern.n; ++c)
-    for (int p = pattern.col_ptr[c]; p < pattern.col_ptr[c + 1]; ++p) ++bucket_ptr[entry_column(pattern.row_idx[p], c) + 1];
-  for (int k = 0; k < np; ++k) bucket_ptr[k + 1] += bucket_ptr[k];
+    for (int p = pattern.col_ptr[c]; p < pattern.col_ptr[c + 1]; ++p) ++bucket_ptr[entry_supernode(pattern.row_idx[p], c) + 1];
+  for (int t = 0; t < ns; ++t) bucket_ptr[t + 1] += bucket_ptr[t];
   bucket.resize(pattern.nnz());
   {
     std::vector<int64_t> next(bucket_ptr.begin(), bucket_ptr.end() - 1);
     for (int c = 0; c < pattern.n; ++c)
-      for (int p = pattern.col_ptr[c]; p < pattern.col_ptr[c + 1]; ++p) bucket[next[entry_column(pattern.row_idx[p], c)]++] = p;
+      for (int p = pattern.col_ptr[c]; p < pattern.col_ptr[c + 1]; ++p) bucket[next[entry_supernode(pattern.row_idx[p], c)]++] = p;
   }
   std::vector<int> col_of_entry(pattern.nnz());  // column c of each stored entry (size nnz)
   for (int c = 0; c < pattern.n; ++c)
     for (int p = pattern.col_ptr[c]; p < pattern.col_ptr[c + 1]; ++p) col_of_entry[p] = c;
-  for (int k = 0; k < np; ++k) {
-    mark_column(s.edge_ptr_, s.edge_pivot_, s.edge_row_, k, mark);
-    for (int64_t q = bucket_ptr[k]; q < bucket_ptr[k + 1]; ++q) {
+  for (int t = 0; t < ns; ++t) {
+    const int last = s.sn_begin_[t + 1] - 1;
+    mark_column(s.edge_ptr_, s.edge_pivot_, s.edge_row_, last, mark);
+    for (int64_t q = bucket_ptr[t]; q < bucket_ptr[t + 1]; ++q) {
       const int64_t p = bucket[q];
       const int r = pattern.row_idx[p], c = col_of_entry[p];
       const int br = block_of_row[r], bc = block_of_row[c];
-      const int lr = r - blocks.block(br).position, lc = c - blocks.block(bc).position;
-      if (br == bc) {
-        s.load_map_[p] = static_cast<int32_t>(s.node_offset_[k] + int64_t{std::max(lr, lc)} * s.size_[k] + std::min(lr, lc));
-        continue;
-      }
-      // The later of the two blocks gives the row of L, the earlier (pivot k) the column.
-      const bool row_is_r = pos[br] > pos[bc];
+      // Permuted rows of the two ends: the later gives the row of L, the earlier the column.
+      const int pr = s.row_start_[pos[br]] + r - blocks.block(br).position;
+      const int pc = s.row_start_[pos[bc]] + c - blocks.block(bc).position;
+      const bool row_is_r = pr > pc;
       const int later = row_is_r ? pos[br] : pos[bc];
-      const int lrow = row_is_r ? lr : lc, lcol = row_is_r ? lc : lr;
-      if (mark[later] < 0)
+      const int lrow = row_is_r ? pr - s.row_start_[later] : pc - s.row_start_[later];
+      const int lcol = (row_is_r ? pc : pr) - s.supernode_row_start(t);
+      if (s.sn_of_pivot_[later] != t && mark[later] < 0)
         throw ArgumentError("symbolic analysis: entry (" + std::to_string(r) + ", " + std::to_string(c) +
                             ") joins blocks " + std::to_string(br) + " and " + std::to_string(bc) +
                             ", which the block pattern does not connect");
-      s.load_map_[p] = static_cast<int32_t>(s.column_offset(k) + int64_t{mark[later] + lrow} * s.size_[k] + lcol);
+      s.load_map_[p] = static_cast<int32_t>(target_row(t, later) + int64_t{lrow} * s.supernode_size(t) + lcol);
     }
-    unmark_column(s.edge_ptr_, s.edge_pivot_, k, mark);
+    unmark_column(s.edge_ptr_, s.edge_pivot_, last, mark);
   }
   return s;
+}
+
+int Symbolic::pivot_of_row(int row) const {
+  assert(row >= 0 && row < n_);
+  return static_cast<int>(std::upper_bound(row_start_.begin(), row_start_.end(), row) - row_start_.begin()) - 1;
 }
 
 void Symbolic::check_pattern(const SymmetricCsc& a, const char* what) const {
@@ -198,7 +240,7 @@ void Symbolic::check_pattern(const SymmetricCsc& a, const char* what) const {
 
 int64_t Symbolic::memory_bytes() const {
   auto bytes = [](const auto& v) { return static_cast<int64_t>(v.size() * sizeof(v[0])); };
-  return bytes(block_) + bytes(size_) + bytes(row_start_) + bytes(height_) + bytes(node_offset_) +
+  return bytes(block_) + bytes(size_) + bytes(row_start_) + bytes(height_) + bytes(sn_begin_) + bytes(sn_of_pivot_) + bytes(sn_blas_) + bytes(sn_node_offset_) +
          bytes(edge_ptr_) + bytes(edge_pivot_) + bytes(edge_fill_) + bytes(edge_row_) + bytes(edge_size_) + bytes(l_rows_ptr_) + bytes(l_rows_) +
          bytes(rsi_ptr_) + bytes(rsi_) + bytes(load_map_) + bytes(perm_) + bytes(pattern_col_ptr_) +
          bytes(pattern_row_idx_);

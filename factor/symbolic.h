@@ -9,6 +9,17 @@
 // row-major. The edge blocks of a column are then one contiguous h x d row-major matrix E_{*,k}:
 // the reduction reads rows of E and of L as unit-stride vectors of length d, and a column is
 // replaced by L with one copy.
+//
+// Supernodes: where consecutive pivots k, k+1, ... have nested structure (the first edge block
+// of k is k+1 and the rest of k's column is k+1's: struct(k) = {k+1} + struct(k+1), CHOLMOD's
+// fundamental supernode), their columns are one dense trapezoid, and the numeric phase treats the
+// run as one pivot of their summed size: one node block (the pivots' node blocks and the edge
+// blocks between them, which the nesting makes structurally nonzero), one E below it. Nothing
+// changes in L: nnz_l and flops are those of the block columns, which the supernode stores
+// exactly (no explicit zeros but the node block's upper triangle). Dense fronts (grids, stars,
+// structural matrices) get kernels of their real width, wide ones level-3 BLAS (dense.h);
+// chains and trees, whose pivots rarely nest, keep the unrolled per-block path. The layout and
+// the RSI are per supernode; a pivot not merged is a supernode of one.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -19,6 +30,17 @@
 
 namespace ldlpgs {
 
+// How the symbolic phase groups pivots into supernodes, and which of them the numeric phase
+// eliminates with BLAS. The defaults come from measurements (papers/factor.md, "Supernodes").
+struct SymbolicOptions {
+  // A maximal run of nested pivots becomes one supernode when it has at least this many rows;
+  // 0 (or a huge value) keeps every pivot alone.
+  int supernode_min_rows = 16;
+  // Supernodes of at least this many rows are eliminated with dense.h (BLAS), the rest with the
+  // kernels of kernels.h at their width.
+  int blas_min_rows = 48;
+};
+
 class Symbolic {
  public:
   Symbolic() = default;
@@ -26,14 +48,16 @@ class Symbolic {
   // into blocks (every stored entry must lie in a block of `blocks`'s graph or on its diagonal);
   // pivots: the block pivot sequence (pivots[k] = block eliminated k-th, a permutation). All
   // three are checked (ArgumentError naming the fault), in every build.
-  static Symbolic analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, std::span<const int> pivots);
+  static Symbolic analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, std::span<const int> pivots,
+                          const SymbolicOptions& options = {});
   // The same for a computed ordering: a scalar ordering (amd-scalar, metis-scalar) factors with
   // 1 x 1 blocks.
-  static Symbolic analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, const Ordering& ordering);
+  static Symbolic analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, const Ordering& ordering,
+                          const SymbolicOptions& options = {});
 
   int num_rows() const { return n_; }
   int num_pivots() const { return static_cast<int>(size_.size()); }
-  int64_t num_values() const { return node_offset_.empty() ? 0 : node_offset_.back(); }
+  int64_t num_values() const { return sn_node_offset_.empty() ? 0 : sn_node_offset_.back(); }
   int64_t num_edges() const { return static_cast<int64_t>(edge_pivot_.size()); }
   int64_t num_fill_edges() const { return num_fill_; }
   // Scalar entries of L, diagonal included, counting every block as dense (CHOLMOD's lnz when the
@@ -41,32 +65,49 @@ class Symbolic {
   // sum over its d columns of (column count)^2 = d(d+1)(2d+1)/6 + h d(d+1) + d h^2 (CHOLMOD's fl).
   int64_t nnz_l() const { return nnz_l_; }
   double flops() const { return flops_; }
+
   // Bytes held by this object (layout, RSI, load map): what a mechanism pays once.
   int64_t memory_bytes() const;
-  // Largest h x d of a column: the size of the numeric phase's scratch (kernels::begin_l's W).
+  // The numeric phase's scratch: W = E L^-T of the widest column (h x d), and for a BLAS
+  // supernode also C = W Y^T (h x h) after it, or dense::ldl_blocked's d x dense::kPanel panel.
   int64_t scratch_size() const { return scratch_size_; }
 
-  // Per pivot position k (0 <= k < num_pivots):
+  // The block structure of L, per pivot position k (0 <= k < num_pivots):
   int block(int k) const { return block_[k]; }
   int size(int k) const { return size_[k]; }
   int row_start(int k) const { return row_start_[k]; }  // first row of pivot k in the permuted order
   int height(int k) const { return height_[k]; }        // rows of E_{*,k}
-  int64_t node_offset(int k) const { return node_offset_[k]; }
-  int64_t column_offset(int k) const { return node_offset_[k] + int64_t{size_[k]} * size_[k]; }
   std::span<const int> edges(int k) const {  // pivot positions j > k of the edge blocks, ascending
     return {edge_pivot_.data() + edge_ptr_[k], static_cast<size_t>(edge_ptr_[k + 1] - edge_ptr_[k])};
   }
   bool is_fill(int64_t edge) const { return edge_fill_[edge] != 0; }
   int64_t first_edge(int k) const { return edge_ptr_[k]; }
-  // Permuted scalar row of each row of E_{*,k} (size height(k)).
-  const int* column_rows(int k) const { return l_rows_.data() + l_rows_ptr_[k]; }
-  // Of column k's edge blocks: first row in E_{*,k} and size (each of length edges(k).size()).
-  const int* edge_rows(int k) const { return edge_row_.data() + edge_ptr_[k]; }
-  const int* edge_sizes(int k) const { return edge_size_.data() + edge_ptr_[k]; }
-  // The reduction-scattering runs of column k, for each edge block b in order: the number of
-  // runs, then per run (value offset of its first target row, its first row in E_{*,k}, rows).
-  // The run's rows of E_{*,k} times L_b^T land at consecutive target rows of stride size(b).
-  const int32_t* rsi(int k) const { return rsi_.data() + rsi_ptr_[k]; }
+  int pivot_of_row(int row) const;  // the pivot holding permuted row `row`
+
+  // The numeric layout, per supernode s (0 <= s < num_supernodes): pivots
+  // [supernode_begin(s), supernode_begin(s + 1)), one node block and one E of the last pivot's
+  // edge blocks.
+  int num_supernodes() const { return static_cast<int>(sn_begin_.size()) - 1; }
+  int supernode_begin(int s) const { return sn_begin_[s]; }
+  int supernode_of(int k) const { return sn_of_pivot_[k]; }
+  int supernode_row_start(int s) const { return row_start_[sn_begin_[s]]; }
+  int supernode_size(int s) const { return row_start_[sn_begin_[s + 1]] - row_start_[sn_begin_[s]]; }  // rows d
+  int supernode_height(int s) const { return height_[sn_begin_[s + 1] - 1]; }                         // rows h of E
+  bool supernode_blas(int s) const { return sn_blas_[s] != 0; }  // eliminated with dense.h
+  int64_t node_offset(int s) const { return sn_node_offset_[s]; }
+  int64_t column_offset(int s) const { return sn_node_offset_[s] + int64_t{supernode_size(s)} * supernode_size(s); }
+  std::span<const int> supernode_edges(int s) const { return edges(sn_begin_[s + 1] - 1); }
+  // Permuted scalar row of each row of E (size supernode_height(s)).
+  const int* column_rows(int s) const { return l_rows_.data() + l_rows_ptr_[s]; }
+  // Of the supernode's edge blocks: first row in E and size (each of length supernode_edges(s).size()).
+  const int* edge_rows(int s) const { return edge_row_.data() + edge_ptr_[sn_begin_[s + 1] - 1]; }
+  const int* edge_sizes(int s) const { return edge_size_.data() + edge_ptr_[sn_begin_[s + 1] - 1]; }
+  // The reduction-scattering runs of supernode s, for each edge block b in order: the number of
+  // runs and the row stride of the target supernode (its size), then per run (value offset of its
+  // first target row, its first row in E, rows). The run's rows of E times L_b^T land at
+  // consecutive target rows of that stride, the first run's first size(b) rows on the target's
+  // diagonal (of which only the lower triangle is written).
+  const int32_t* rsi(int s) const { return rsi_.data() + rsi_ptr_[s]; }
   int64_t rsi_size() const { return static_cast<int64_t>(rsi_.size()); }
   int max_size() const { return max_size_; }  // largest block
   // perm[i] = original row at permuted position i (size num_rows)
@@ -84,16 +125,19 @@ class Symbolic {
   std::vector<int> size_;             // block size d_k (size num_pivots)
   std::vector<int> row_start_;        // permuted row of each pivot's first row (size num_pivots+1)
   std::vector<int> height_;           // h_k (size num_pivots)
-  std::vector<int64_t> node_offset_;  // start of N_k; the last entry is the values' size (size num_pivots+1)
   std::vector<int> edge_ptr_;         // edges of pivot k: [edge_ptr[k], edge_ptr[k+1]) (size num_pivots+1)
   std::vector<int> edge_pivot_;       // pivot position of each edge block's rows (size num_edges)
   std::vector<uint8_t> edge_fill_;    // 1 for a fill block (size num_edges)
   std::vector<int> edge_row_;         // first row of each edge block in its column's E (size num_edges)
   std::vector<int> edge_size_;        // rows of each edge block (size num_edges)
-  std::vector<int64_t> l_rows_ptr_;   // (size num_pivots+1)
-  std::vector<int> l_rows_;           // permuted scalar rows of every E_{*,k} (size sum h_k)
-  std::vector<int64_t> rsi_ptr_;      // (size num_pivots+1)
-  std::vector<int32_t> rsi_;          // runs per pivot, see rsi() (size rsi_ptr[num_pivots])
+  std::vector<int> sn_begin_;         // first pivot of each supernode (size num_supernodes+1)
+  std::vector<int> sn_of_pivot_;      // supernode of each pivot (size num_pivots)
+  std::vector<uint8_t> sn_blas_;      // 1: eliminated with dense.h (size num_supernodes)
+  std::vector<int64_t> sn_node_offset_;  // start of each node block; the last entry is the values' size (size num_supernodes+1)
+  std::vector<int64_t> l_rows_ptr_;   // (size num_supernodes+1)
+  std::vector<int> l_rows_;           // permuted scalar rows of every supernode's E (size sum h_s)
+  std::vector<int64_t> rsi_ptr_;      // (size num_supernodes+1)
+  std::vector<int32_t> rsi_;          // runs per supernode, see rsi() (size rsi_ptr[num_supernodes])
   std::vector<int32_t> load_map_;     // value offset of each stored pattern entry (size pattern nnz)
   std::vector<int> perm_;             // (size n)
   std::vector<int> pattern_col_ptr_;  // the analyzed pattern, for check_pattern (size n+1)

@@ -77,7 +77,7 @@ double condition_estimate(const SymmetricCsc& a, Numeric& f) {
 }  // namespace
 
 Verification verify_against_cholmod(const SymmetricCsc& a, const BlockPattern& blocks, const Ordering& ordering,
-                                    const VerifyTolerance& tolerance) {
+                                    const VerifyTolerance& tolerance, const SymbolicOptions& symbolic) {
   Verification v;
   v.ordering = ordering.name;
   v.tolerance = tolerance;
@@ -86,7 +86,7 @@ Verification verify_against_cholmod(const SymmetricCsc& a, const BlockPattern& b
   for (int i = 0; i < a.n; ++i) x_true[i] = i % 2 ? -1.0 : 1.0;
   symmetric_multiply(a, x_true, b);
 
-  const Symbolic s = Symbolic::analyze(a, blocks, ordering);
+  const Symbolic s = Symbolic::analyze(a, blocks, ordering, symbolic);
   Numeric f(s);
   v.info = f.factorize(a);
   v.nnz_L = s.nnz_l();

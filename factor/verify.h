@@ -45,8 +45,8 @@ struct Verification {
 };
 
 // Factors a (with the partition `blocks`) in the ordering's pivot order with both libraries and
-// solves A x = b for b = A * (1, -1, 1, ...)^T.
+// solves A x = b for b = A * (1, -1, 1, ...)^T. `symbolic` chooses ours's supernodes.
 Verification verify_against_cholmod(const SymmetricCsc& a, const BlockPattern& blocks, const Ordering& ordering,
-                                    const VerifyTolerance& tolerance = {});
+                                    const VerifyTolerance& tolerance = {}, const SymbolicOptions& symbolic = {});
 
 }  // namespace ldlpgs

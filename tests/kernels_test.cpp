@@ -62,30 +62,36 @@ TEST_P(Kernels, BeginAndEndLSolveAgainstTheNodeBlock) {
 TEST_P(Kernels, ReduceRunsSubtractEachPanelProductAtItsTarget) {
   // Runs of db, 3 and 7 rows of E (from rows 2, 1 and 4) times L_b^T (db rows of L from row 2;
   // db = 1..7 covers every unrolled size of the second dispatch and the generic one) land at
-  // offsets 0, 100, 200 with row stride db. The first run is block b's own rows landing in its
-  // node block: only its lower triangle is written.
+  // offsets 0, 100, 200 with row stride ld: db, as in a target of one block, or db + 3, as in a
+  // supernode whose other columns must stay untouched. The first run is block b's own rows
+  // landing on the diagonal: only its lower triangle is written. scatter_runs, given the
+  // product, must write the same.
   const int d = GetParam();
   for (int db = 1; db <= 7; ++db) {
-    const std::vector<int32_t> runs = {0, 2, db, 100, 1, 3, 200, 4, 7};
-    const RowMatrix e = RowMatrix::Random(11, d), l = RowMatrix::Random(11, d);
-    std::vector<double> values(300, 1.0);
-    const int32_t* end = nullptr;
-    kernels::dispatch_size(d, [&](auto size) {
-      constexpr int N = decltype(size)::value;
-      kernels::dispatch_size(db, [&](auto size_b) {
-        end = kernels::reduce_runs<N, decltype(size_b)::value>(values.data(), e.data(), l.data() + 2 * d, runs.data(), 3, d, db);
+    for (const int ld : {db, db + 3}) {
+      const std::vector<int32_t> runs = {3, ld, 0, 2, db, 100, 1, 3, 200, 4, 7};
+      const RowMatrix e = RowMatrix::Random(11, d), l = RowMatrix::Random(11, d);
+      const RowMatrix product = e * l.middleRows(2, db).transpose();  // 11 x db
+      std::vector<double> values(300, 1.0), scattered(300, 1.0);
+      const int32_t* end = nullptr;
+      kernels::dispatch_size(d, [&](auto size) {
+        constexpr int N = decltype(size)::value;
+        kernels::dispatch_size(db, [&](auto size_b) {
+          end = kernels::reduce_runs<N, decltype(size_b)::value>(values.data(), e.data(), l.data() + 2 * d, runs.data(), d, db);
+        });
       });
-    });
-    EXPECT_EQ(end, runs.data() + runs.size());
-    const Eigen::MatrixXd product = Eigen::MatrixXd(e) * Eigen::MatrixXd(l.middleRows(2, db)).transpose();
-    for (size_t run = 0; run < 3; ++run) {
-      const int target = runs[3 * run], row = runs[3 * run + 1], rows = runs[3 * run + 2];
-      for (int r = 0; r < rows; ++r)
-        for (int c = 0; c < db; ++c) {
-          const double expected = run == 0 && c > r ? 1.0 : 1.0 - product(row + r, c);
-          EXPECT_NEAR(values[target + r * db + c], expected, 1e-14) << run;
-        }
-      EXPECT_EQ(values[target + rows * db], 1.0);  // nothing beyond the run
+      EXPECT_EQ(end, runs.data() + runs.size());
+      EXPECT_EQ(kernels::scatter_runs(scattered.data(), product.data(), runs.data(), db, db), runs.data() + runs.size());
+      for (size_t run = 0; run < 3; ++run) {
+        const int target = runs[2 + 3 * run], row = runs[3 + 3 * run], rows = runs[4 + 3 * run];
+        for (int r = 0; r < rows; ++r)
+          for (int c = 0; c < ld; ++c) {
+            const double expected = c >= db || (run == 0 && c > r) ? 1.0 : 1.0 - product(row + r, c);
+            EXPECT_NEAR(values[target + r * ld + c], expected, 1e-14) << run;
+            EXPECT_NEAR(scattered[target + r * ld + c], expected, 1e-14) << run;
+          }
+        EXPECT_EQ(values[target + rows * ld], 1.0);  // nothing beyond the run
+      }
     }
   }
 }

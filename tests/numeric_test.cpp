@@ -31,9 +31,21 @@ struct Case {
   std::string name;      // test matrix file or family-size
   std::string partition; // auto, a uniform size, or "constraints" (the mechanism's own blocks)
   std::string ordering;
+  // The supernodes (SymbolicOptions): "default"; "none", every pivot alone; "blas", every run of
+  // nested pivots merged and eliminated with dense.h however narrow, so the BLAS path meets
+  // every family and partition and not only the few wide fronts the defaults give it.
+  std::string supernodes = "default";
 };
 
-void PrintTo(const Case& c, std::ostream* os) { *os << c.name << " blocks " << c.partition << " " << c.ordering; }
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << c.name << " blocks " << c.partition << " " << c.ordering << " supernodes " << c.supernodes;
+}
+
+SymbolicOptions symbolic_options(const Case& c) {
+  if (c.supernodes == "none") return {.supernode_min_rows = 0};
+  if (c.supernodes == "blas") return {.supernode_min_rows = 1, .blas_min_rows = 1};
+  return {};
+}
 
 struct Problem {
   SymmetricCsc a;
@@ -65,7 +77,7 @@ TEST_P(FactorHarness, AgreesWithCholmodAndDenseEigen) {
   const Case& c = GetParam();
   const Problem p = problem(c);
   const Ordering o = compute_ordering(find_ordering(c.ordering), p.blocks, p.a);
-  const Verification v = verify_against_cholmod(p.a, p.blocks, o);
+  const Verification v = verify_against_cholmod(p.a, p.blocks, o, {}, symbolic_options(c));
   EXPECT_EQ(v.info.status, FactorStatus::ok) << v.info.message();
   EXPECT_EQ(v.info.inertia.positive, p.a.n);
   EXPECT_LE(v.backward_error, 1e-14);
@@ -80,7 +92,7 @@ TEST_P(FactorHarness, AgreesWithCholmodAndDenseEigen) {
   EXPECT_GE(v.flops, v.flops_cholmod);
   if (p.a.n > 300) return;
   // Dense references: P^T L D L^T P = A, and x = A^-1 b from Eigen's LDLT.
-  const Symbolic s = Symbolic::analyze(p.a, p.blocks, o);
+  const Symbolic s = Symbolic::analyze(p.a, p.blocks, o, symbolic_options(c));
   Numeric f(s);
   ASSERT_TRUE(f.factorize(p.a).usable());
   const Eigen::MatrixXd a = testing::dense(p.a), ld = testing::dense(f.scalar_ldl());
@@ -107,17 +119,25 @@ std::vector<Case> cases() {
       for (const std::string& o : orderings) {
         if (name == "bcsstk13.mtx" && o == "natural") continue;  // dense fill: minutes, nothing new
         out.push_back({name, partition, o});
+        if (o == "meca-w" || o == "amd-scalar")
+          for (const char* supernodes : {"none", "blas"}) out.push_back({name, partition, o, supernodes});
       }
   }
   for (std::string_view family : family_names())
     for (int size : {12, 150})
       for (const char* partition : {"constraints", "2"})
-        for (const std::string& o : orderings) out.push_back({std::string(family) + "-" + std::to_string(size), partition, o});
+        for (const std::string& o : orderings) {
+          const std::string name = std::string(family) + "-" + std::to_string(size);
+          out.push_back({name, partition, o});
+          if (o == "meca-w" || o == "amd-scalar")
+            for (const char* supernodes : {"none", "blas"}) out.push_back({name, partition, o, supernodes});
+        }
   return out;
 }
 
 std::string case_name(const ::testing::TestParamInfo<Case>& info) {
   std::string s = info.param.name + "_" + info.param.partition + "_" + info.param.ordering;
+  if (info.param.supernodes != "default") s += "_supernodes_" + info.param.supernodes;
   for (char& ch : s)
     if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
   return s;

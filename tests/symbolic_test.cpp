@@ -23,38 +23,55 @@ using Coordinates = std::vector<std::pair<int, int>>;  // per value: (row, colum
 // (upper entries of node blocks are (-1, -1): nothing may land there).
 Coordinates coordinates(const Symbolic& s) {
   Coordinates at(s.num_values(), {-1, -1});
-  for (int k = 0; k < s.num_pivots(); ++k) {
-    const int d = s.size(k), r0 = s.row_start(k);
+  for (int t = 0; t < s.num_supernodes(); ++t) {
+    const int d = s.supernode_size(t), r0 = s.supernode_row_start(t);
     for (int r = 0; r < d; ++r)
-      for (int c = 0; c <= r; ++c) at[s.node_offset(k) + r * d + c] = {r0 + r, r0 + c};
+      for (int c = 0; c <= r; ++c) at[s.node_offset(t) + r * d + c] = {r0 + r, r0 + c};
     int row = 0;
-    for (int j : s.edges(k))
+    for (int j : s.supernode_edges(t))
       for (int l = 0; l < s.size(j); ++l, ++row)
-        for (int c = 0; c < d; ++c) at[s.column_offset(k) + row * d + c] = {s.row_start(j) + l, r0 + c};
+        for (int c = 0; c < d; ++c) at[s.column_offset(t) + row * d + c] = {s.row_start(j) + l, r0 + c};
   }
   return at;
 }
 
-void expect_consistent(const SymmetricCsc& a, const BlockPattern& blocks, const std::vector<int>& pivots) {
-  const Symbolic s = Symbolic::analyze(a, blocks, pivots);
+void expect_consistent(const SymmetricCsc& a, const BlockPattern& blocks, const std::vector<int>& pivots,
+                       const SymbolicOptions& options = {}) {
+  const Symbolic s = Symbolic::analyze(a, blocks, pivots, options);
   ASSERT_EQ(s.num_pivots(), blocks.num_blocks());
+  // Supernodes partition the pivots into runs whose structure nests: each pivot's column is the
+  // rest of the run plus the run's last column (so the node block holds no zero of L).
+  for (int t = 0; t < s.num_supernodes(); ++t) {
+    const int begin = s.supernode_begin(t), end = s.supernode_begin(t + 1);
+    ASSERT_LT(begin, end);
+    for (int k = begin; k < end; ++k) {
+      ASSERT_EQ(s.supernode_of(k), t);
+      std::vector<int> expected;
+      for (int j = k + 1; j < end; ++j) expected.push_back(j);
+      for (int j : s.edges(end - 1)) expected.push_back(j);
+      ASSERT_EQ(std::vector<int>(s.edges(k).begin(), s.edges(k).end()), expected) << "pivot " << k;
+    }
+  }
+  ASSERT_EQ(s.supernode_begin(s.num_supernodes()), s.num_pivots());
   const Coordinates at = coordinates(s);
   // Counts: CHOLMOD's analysis of the matrix with dense blocks, same scalar order.
   Cholmod cm;
   const CholmodCounts counts = cholmod_counts(blocks.expand(), s.perm(), cm);
   EXPECT_EQ(s.nnz_l(), static_cast<int64_t>(counts.lnz));
   EXPECT_EQ(s.flops(), counts.fl);
-  // RSI: for each edge block b of a column, its runs address, row by row, the rows of E_{*,k}
-  // they name (permuted rows column_rows) against b's rows (every element of an edge block, the
-  // lower triangle of a node block), and together cover each row of the blocks a >= b once.
-  for (int k = 0; k < s.num_pivots(); ++k) {
-    const std::span<const int> col = s.edges(k);
-    const int* rows = s.column_rows(k);
-    const int32_t* rsi = s.rsi(k);
+  // RSI: for each edge block b of a supernode, its runs address, row by row at the stride the
+  // entry gives, the rows of E they name (permuted rows column_rows) against b's rows (every
+  // element of an edge block, the lower triangle of a node block), and together cover each row
+  // of the blocks a >= b once.
+  for (int t = 0; t < s.num_supernodes(); ++t) {
+    const std::span<const int> col = s.supernode_edges(t);
+    const int* rows = s.column_rows(t);
+    const int32_t* rsi = s.rsi(t);
     for (size_t b = 0; b < col.size(); ++b) {
       const int jb = col[b], db = s.size(jb);
-      std::vector<int> covered(s.height(k), 0);
-      const int runs = *rsi++;
+      std::vector<int> covered(s.supernode_height(t), 0);
+      const int runs = *rsi++, ld = *rsi++;
+      ASSERT_EQ(ld, s.supernode_size(s.supernode_of(jb)));
       for (int run = 0; run < runs; ++run, rsi += 3) {
         for (int r = 0; r < rsi[2]; ++r) {
           const int source = rsi[1] + r;
@@ -62,13 +79,14 @@ void expect_consistent(const SymmetricCsc& a, const BlockPattern& blocks, const 
           for (int c = 0; c < db; ++c) {
             const std::pair<int, int> expected = {rows[source], s.row_start(jb) + c};
             if (expected.first < expected.second) continue;  // upper triangle of the node block
-            ASSERT_EQ(at[rsi[0] + r * db + c], expected) << "pivot " << k << " edge " << b << " run " << run;
+            ASSERT_EQ(at[rsi[0] + r * ld + c], expected) << "supernode " << t << " edge " << b << " run " << run;
           }
         }
       }
-      for (int i = 0; i < s.height(k); ++i) EXPECT_EQ(covered[i], i >= s.edge_rows(k)[b] ? 1 : 0) << "pivot " << k;
+      for (int i = 0; i < s.supernode_height(t); ++i)
+        EXPECT_EQ(covered[i], i >= s.edge_rows(t)[b] ? 1 : 0) << "supernode " << t;
     }
-    ASSERT_EQ(rsi, k + 1 < s.num_pivots() ? s.rsi(k + 1) : s.rsi(0) + s.rsi_size());  // no run left over
+    ASSERT_EQ(rsi, t + 1 < s.num_supernodes() ? s.rsi(t + 1) : s.rsi(0) + s.rsi_size());  // no run left over
   }
   // Load map: stored entry (r, c) lands at its permuted position, lower triangle.
   std::vector<int> inverse(a.n);
@@ -83,13 +101,17 @@ void expect_consistent(const SymmetricCsc& a, const BlockPattern& blocks, const 
   EXPECT_GT(s.memory_bytes(), 0);
 }
 
+// Every pivot alone; the defaults; every run of nested pivots merged, however narrow.
+const SymbolicOptions kSupernodeChoices[] = {{.supernode_min_rows = 0}, {}, {.supernode_min_rows = 1}};
+
 TEST(Symbolic, LayoutRsiAndLoadMapOnTestMatrices) {
   for (const auto& m : testing::test_matrices()) {
     if (m.a.n > 1200) continue;  // bcsstk13 and bcspwr06: the coordinate check is quadratic in memory
     SCOPED_TRACE(m.name);
     const BlockPattern blocks = BlockPattern::from_scalar(m.a, partition_auto(m.a));
     for (const char* name : {"mda", "meca-w", "amd"})
-      expect_consistent(m.a, blocks, compute_ordering(find_ordering(name), blocks, m.a).pivots);
+      for (const SymbolicOptions& options : kSupernodeChoices)
+        expect_consistent(m.a, blocks, compute_ordering(find_ordering(name), blocks, m.a).pivots, options);
   }
 }
 
@@ -99,8 +121,38 @@ TEST(Symbolic, LayoutRsiAndLoadMapOnMechanisms) {
     const BlockPattern blocks = constraint_graph(make_family(family, 60));
     const SymmetricCsc a = blocks.expand();
     for (const char* name : {"natural", "mda", "meca", "metis"})
-      expect_consistent(a, blocks, compute_ordering(find_ordering(name), blocks, a).pivots);
+      for (const SymbolicOptions& options : kSupernodeChoices)
+        expect_consistent(a, blocks, compute_ordering(find_ordering(name), blocks, a).pivots, options);
   }
+}
+
+// A dense matrix is one supernode whatever the order; a tridiagonal one (a chain) has none but
+// its last two pivots; the option's threshold is the run's rows.
+TEST(Symbolic, SupernodesAreTheMaximalNestedRunsWideEnough) {
+  auto count = [](const SymmetricCsc& a, int block, int min_rows) {
+    const BlockPattern blocks = BlockPattern::from_scalar(a, partition_uniform(a.n, block));
+    std::vector<int> natural(blocks.num_blocks());
+    for (int k = 0; k < blocks.num_blocks(); ++k) natural[k] = k;
+    return Symbolic::analyze(a, blocks, natural, {.supernode_min_rows = min_rows}).num_supernodes();
+  };
+  SymmetricCsc dense, chain;
+  dense.n = chain.n = 30;
+  for (int c = 0; c < 30; ++c) {
+    dense.col_ptr.push_back(static_cast<int>(dense.row_idx.size()));
+    for (int r = c; r < 30; ++r) dense.row_idx.push_back(r);
+    chain.col_ptr.push_back(static_cast<int>(chain.row_idx.size()));
+    chain.row_idx.push_back(c);
+    if (c + 1 < 30) chain.row_idx.push_back(c + 1);
+  }
+  dense.col_ptr.push_back(static_cast<int>(dense.row_idx.size()));
+  chain.col_ptr.push_back(static_cast<int>(chain.row_idx.size()));
+  dense.values.assign(dense.row_idx.size(), 1.0);
+  chain.values.assign(chain.row_idx.size(), 1.0);
+  EXPECT_EQ(count(dense, 3, 16), 1);
+  EXPECT_EQ(count(dense, 3, 31), 10);  // 30 rows: too narrow for 31
+  EXPECT_EQ(count(dense, 3, 0), 10);
+  EXPECT_EQ(count(chain, 1, 1), 29);   // pivots 28 and 29 nest (29 is 28's only row)
+  EXPECT_EQ(count(chain, 1, 16), 30);
 }
 
 TEST(Symbolic, ColumnsArePackedInPivotOrder) {
@@ -108,9 +160,11 @@ TEST(Symbolic, ColumnsArePackedInPivotOrder) {
   const SymmetricCsc a = blocks.expand();
   const Symbolic s = Symbolic::analyze(a, blocks, compute_ordering(find_ordering("meca"), blocks, a));
   int64_t offset = 0;
+  for (int t = 0; t < s.num_supernodes(); ++t) {
+    EXPECT_EQ(s.node_offset(t), offset);
+    offset += int64_t{s.supernode_size(t)} * (s.supernode_size(t) + s.supernode_height(t));
+  }
   for (int k = 0; k < s.num_pivots(); ++k) {
-    EXPECT_EQ(s.node_offset(k), offset);
-    offset += int64_t{s.size(k)} * (s.size(k) + s.height(k));
     int h = 0;
     for (int j : s.edges(k)) {
       EXPECT_GT(j, k);

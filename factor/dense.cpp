@@ -1,0 +1,138 @@
+// The supernodal kernels (dense.h) on the reference BLAS interface, which Debian's OpenBLAS
+// (build.sh installs libopenblas0-serial as libblas.so.3) implements with this machine's vector
+// kernels. Declared here instead of through a cblas.h: the Fortran symbols are the one interface
+// every libblas.so.3 alternative exports (CHOLMOD calls them the same way).
+#include "ldlpgs/factor/dense.h"
+
+#include <algorithm>
+#include <cmath>
+
+extern "C" {
+void dtrsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m, const int* n,
+            const double* alpha, const double* a, const int* lda, double* b, const int* ldb);
+void dtrsv_(const char* uplo, const char* trans, const char* diag, const int* n, const double* a, const int* lda,
+            double* x, const int* incx);
+void dgemv_(const char* trans, const int* m, const int* n, const double* alpha, const double* a, const int* lda,
+            const double* x, const int* incx, const double* beta, double* y, const int* incy);
+void dgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k, const double* alpha,
+            const double* a, const int* lda, const double* b, const int* ldb, const double* beta, double* c,
+            const int* ldc);
+}
+
+namespace ldlpgs::dense {
+
+namespace {
+
+// The row-major unit-lower L of a node block (row stride ld) is, to BLAS, the unit-upper U = L^T.
+// For a row-major m x n matrix X (stride ld), BLAS's X' = X^T (n x m):
+//   X L^-T  is  (L^-1 X')^T = (U^-T X')^T: dtrsm(Left, Upper, Trans, Unit)
+//   X L^-1  is  (L^-T X')^T = (U^-1 X')^T: dtrsm(Left, Upper, NoTrans, Unit)
+void solve_rows(const char* trans, const double* node, int n, int ld_node, double* x, int m, int ld_x) {
+  if (m == 0 || n == 0) return;
+  const double one = 1;
+  dtrsm_("L", "U", trans, "U", &n, &m, &one, node, &ld_node, x, &ld_x);
+}
+
+// C[i0:i1, 0:i1] (+)= alpha A[i0:i1, :] B[0:i1, :]^T for the row panels [i0, i1) of the h x h
+// row-major C (stride ldc); A, B h x k row-major with strides lda, ldb. BLAS sees
+// C'[0:i1, i0:i1] = alpha B'[:, 0:i1]^T A'[:, i0:i1] + beta C'.
+void lower_gemm(double alpha, const double* a, int lda, const double* b, int ldb, int h, int k, double beta,
+                double* c, int ldc) {
+  if (h == 0 || k == 0) return;
+  for (int i0 = 0; i0 < h; i0 += kRowPanel) {
+    const int i1 = std::min(h, i0 + kRowPanel), rows = i1 - i0;
+    dgemm_("T", "N", &i1, &rows, &k, &alpha, b, &ldb, a + static_cast<int64_t>(i0) * lda, &lda, &beta,
+           c + static_cast<int64_t>(i0) * ldc, &ldc);
+  }
+}
+
+// kernels::ldl_node's triple loop with a row stride: one panel's diagonal block.
+int ldl_unblocked(double* a, int n, int ld, const double* floor, double* inv_d) {
+  for (int j = 0; j < n; ++j) {
+    double* aj = a + static_cast<int64_t>(j) * ld;
+    double d = aj[j];
+    for (int k = 0; k < j; ++k) d -= aj[k] * aj[k] * a[static_cast<int64_t>(k) * ld + k];
+    aj[j] = d;
+    if (!(std::abs(d) > floor[j]) || !std::isfinite(d)) return j;
+    const double inv = 1.0 / d;
+    inv_d[j] = inv;
+    for (int i = j + 1; i < n; ++i) {
+      double* ai = a + static_cast<int64_t>(i) * ld;
+      double s = ai[j];
+      for (int k = 0; k < j; ++k) s -= ai[k] * aj[k] * a[static_cast<int64_t>(k) * ld + k];
+      ai[j] = s * inv;
+    }
+  }
+  return -1;
+}
+
+}  // namespace
+
+// Right-looking by panels of kPanel columns [j0, j1): factor the diagonal block; below it
+// R = A21 becomes W = R L11^-T (kept in w) and L21 = W D1^-1 (over R), since
+// A21 = L21 D1 L11^T; then A22 -= W L21^T, lower triangle, with dgemm. Same arithmetic as the
+// unblocked loop up to the order of the sums.
+int ldl_blocked(double* a, int n, int ld, const double* floor, double* inv_d, double* w) {
+  for (int j0 = 0; j0 < n; j0 += kPanel) {
+    const int b = std::min(kPanel, n - j0), m = n - j0 - b;
+    double* a11 = a + static_cast<int64_t>(j0) * ld + j0;
+    const int bad = ldl_unblocked(a11, b, ld, floor + j0, inv_d + j0);
+    if (bad >= 0) return j0 + bad;
+    if (m == 0) break;
+    double* r = a11 + static_cast<int64_t>(b) * ld;  // A21: m x b, stride ld
+    solve_rows("T", a11, b, ld, r, m, ld);
+    for (int i = 0; i < m; ++i) {
+      double* ri = r + static_cast<int64_t>(i) * ld;
+      double* wi = w + static_cast<int64_t>(i) * b;
+      for (int c = 0; c < b; ++c) {
+        wi[c] = ri[c];
+        ri[c] *= inv_d[j0 + c];
+      }
+    }
+    lower_gemm(-1, w, b, r, ld, m, b, 1, r + b, ld);
+  }
+  return -1;
+}
+
+void begin_l(double* e, double* w, const double* node, const double* inv_d, int h, int n) {
+  solve_rows("T", node, n, n, e, h, n);
+  for (int64_t r = 0; r < h; ++r) {
+    double* er = e + r * n;
+    double* wr = w + r * n;
+    for (int c = 0; c < n; ++c) {
+      wr[c] = er[c];
+      er[c] *= inv_d[c];
+    }
+  }
+}
+
+void end_l(double* e, const double* node, int h, int n) { solve_rows("N", node, n, n, e, h, n); }
+
+void lower_product(const double* w, const double* y, int h, int n, double* c) { lower_gemm(1, w, n, y, n, h, n, 0, c, h); }
+
+// L is h x n row-major: BLAS's L' = L^T is n x h, so L y_t is dgemv('T') of L' and L^T z is
+// dgemv('N'). The node's unit-lower L is BLAS's unit-upper U = L^T (solve_rows).
+void forward_column(double* y, const double* yt, const double* l, const int* rows, int h, int n, double* tmp) {
+  if (h == 0) return;
+  const double one = 1, zero = 0;
+  const int inc = 1;
+  dgemv_("T", &n, &h, &one, l, &n, yt, &inc, &zero, tmp, &inc);
+  for (int r = 0; r < h; ++r) y[rows[r]] -= tmp[r];
+}
+
+void solve_node(const double* node, const double* inv_d, double* x, int n) {
+  const int inc = 1;
+  dtrsv_("U", "T", "U", &n, node, &n, x, &inc);  // x <- L^-1 x
+  for (int i = 0; i < n; ++i) x[i] *= inv_d[i];
+  dtrsv_("U", "N", "U", &n, node, &n, x, &inc);  // x <- L^-T x
+}
+
+void backward_column(const double* y, double* yt, const double* l, const int* rows, int h, int n, double* tmp) {
+  if (h == 0) return;
+  const double minus_one = -1, one = 1;
+  const int inc = 1;
+  for (int r = 0; r < h; ++r) tmp[r] = y[rows[r]];
+  dgemv_("N", &n, &h, &minus_one, l, &n, tmp, &inc, &one, yt, &inc);
+}
+
+}  // namespace ldlpgs::dense

@@ -1,0 +1,40 @@
+#pragma once
+// The supernodal kernels: the same four steps as kernels.h (node LDL^T, W = E L^-T with
+// Y = W D^-1, the reduction's product, L = Y L^-1), for a supernode wide enough that level-3 BLAS
+// (dtrsm, dgemm) beats the unrolled loops. Same layout as kernels.h: node block n x n row-major
+// (lower triangle read), E h x n row-major. A row-major m x n matrix with row stride ld is, to
+// column-major BLAS, its transpose n x m with leading dimension ld: every call below passes the
+// transposed problem, so no copy is made. Nothing here allocates: the scratch comes from the
+// numeric phase (sizes in the comments).
+#include <cstdint>
+
+namespace ldlpgs::dense {
+
+// Columns of a panel of the blocked LDL^T (the unblocked triple loop inside it, dtrsm below it,
+// dgemm for the trailing matrix), and rows of a panel of the lower-triangular products. Measured
+// on heavy-253's single 976-row supernode (papers/factor.md, "Supernodes").
+inline constexpr int kPanel = 64;
+inline constexpr int kRowPanel = 128;
+
+// LDL^T without pivoting of the n x n row-major block a (lower triangle, row stride ld), in
+// place, as kernels::ldl_node: unit-lower L below the diagonal, D on it, inv_d = 1 / D, floor[j]
+// the zero-pivot threshold of pivot j. Returns the first pivot that is zero or not finite, or -1.
+// w: scratch of n * kPanel doubles.
+int ldl_blocked(double* a, int n, int ld, const double* floor, double* inv_d, double* w);
+
+// W = E L^-T (into w, h x n row-major) and Y = W D^-1 (over e), node = L D L^T factored.
+void begin_l(double* e, double* w, const double* node, const double* inv_d, int h, int n);
+// L = Y L^-1 over Y (e).
+void end_l(double* e, const double* node, int h, int n);
+// The lower triangle of C = W Y^T (h x h row-major, into c), row panels of kRowPanel: the upper
+// triangle inside each diagonal panel is computed too (at most kRowPanel / h more flops) and
+// never read.
+void lower_product(const double* w, const double* y, int h, int n, double* c);
+
+// The solve's three steps (kernels.h forward_column, solve_node, backward_column) with dgemv and
+// dtrsv: y[rows] -= L y_t; x = N^-1 x; y_t -= L^T y[rows]. tmp: scratch of h doubles.
+void forward_column(double* y, const double* yt, const double* l, const int* rows, int h, int n, double* tmp);
+void solve_node(const double* node, const double* inv_d, double* x, int n);
+void backward_column(const double* y, double* yt, const double* l, const int* rows, int h, int n, double* tmp);
+
+}  // namespace ldlpgs::dense
