@@ -28,8 +28,10 @@ void unmark_column(const std::vector<int>& edge_ptr, const std::vector<int>& edg
 }  // namespace
 
 Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, const Ordering& ordering) {
-  if (ordering.level == Level::scalar) return analyze(pattern, BlockPattern::unit(pattern), ordering.pivots);
-  return analyze(pattern, blocks, ordering.pivots);
+  Symbolic s = ordering.level == Level::scalar ? analyze(pattern, BlockPattern::unit(pattern), ordering.pivots)
+                                               : analyze(pattern, blocks, ordering.pivots);
+  s.ordering_ = ordering.chosen;
+  return s;
 }
 
 Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, std::span<const int> pivots) {

@@ -11,6 +11,7 @@
 // replaced by L with one copy.
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "ldlpgs/ordering/ordering.h"
@@ -31,6 +32,8 @@ class Symbolic {
   // 1 x 1 blocks.
   static Symbolic analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, const Ordering& ordering);
 
+  // The ordering that gave the pivots (Ordering::chosen: best's winner); empty from bare pivots.
+  const std::string& ordering() const { return ordering_; }
   int num_rows() const { return n_; }
   int num_pivots() const { return static_cast<int>(size_.size()); }
   int64_t num_values() const { return node_offset_.empty() ? 0 : node_offset_.back(); }
@@ -80,6 +83,7 @@ class Symbolic {
 
  private:
   int n_ = 0;
+  std::string ordering_;              // Ordering::chosen of the ordering analysed, or empty
   std::vector<int> block_;            // original block of each pivot (size num_pivots)
   std::vector<int> size_;             // block size d_k (size num_pivots)
   std::vector<int> row_start_;        // permuted row of each pivot's first row (size num_pivots+1)
