@@ -16,9 +16,11 @@ namespace ldlpgs {
 
 struct ShatterOptions {
   int threshold = 20;             // candidates: total constraint degree (rows) above this
-  std::string ordering = "best";  // the ordering whose block flops choose k (best: about 2x meca's
-                                  // time per candidate k, 0.02 -> 0.04 s for `spy` of the built-in
-                                  // scenes; the programs pass their --ordering, whose default it is)
+  // The ordering whose block flops choose k. best, as everywhere: it costs 0.25-0.36 ms per
+  // candidate k on the talk's mechanisms against meca's 0.02-0.04 ms (`order --json`'s
+  // ordering_ms), and `spy` of a built-in scene takes 0.02-0.04 s either way: not worth a
+  // second default. The programs pass their --ordering.
+  std::string ordering = "best";
   int shards = 0;                 // 0: k chosen by flops; 2..kMaxShards: every candidate in k shards
 };
 
