@@ -57,6 +57,7 @@
 #include <vector>
 
 #include "ldlpgs/ordering/metrics.h"
+#include "ldlpgs/sparse/csc.h"
 
 namespace ldlpgs {
 
@@ -363,6 +364,8 @@ BlockFlopsCertificate certify_block_flops(const BlockPattern& pattern, double ti
   const auto deadline = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(time_limit_s));
   BlockFlopsCertificate cert;
   const int nb = pattern.num_blocks();
+  // The known order caps the search (F >= its cost is read as F = its cost): it must be one.
+  if (!pivots.empty()) check_permutation(pivots, nb, "certify_block_flops (pivots)");
   const std::vector<int> size = pattern.block_sizes();
   std::vector<std::vector<int>> adj(nb);  // live neighbours, ascending (size nb)
   for (int v = 0; v < nb; ++v) adj[v].assign(pattern.neighbors(v).begin(), pattern.neighbors(v).end());

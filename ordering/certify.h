@@ -26,7 +26,8 @@ struct BlockFlopsCertificate {
 };
 
 // pivots (optional): an order whose block flops the search need not beat, the best one known
-// (it prunes the search, and an order the search cannot beat is optimal).
+// (it prunes the search, and an order the search cannot beat is optimal); a permutation of the
+// blocks, or ArgumentError.
 BlockFlopsCertificate certify_block_flops(const BlockPattern& pattern, double time_limit_s,
                                           std::span<const int> pivots = {});
 

@@ -13,6 +13,7 @@
 #include "ldlpgs/ordering/metrics.h"
 #include "ldlpgs/ordering/ordering.h"
 #include "ldlpgs/physics/scenes.h"
+#include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/families.h"
 
 namespace ldlpgs {
@@ -115,6 +116,11 @@ TEST(Certify, OutOfTimeGivesALowerBound) {
   EXPECT_FALSE(c.optimal_proved);
   EXPECT_EQ(c.lower_bound, zero_fill_block_flops(p));
   EXPECT_LE(c.lower_bound, cost(p, choose_best(p).pivots));
+}
+
+TEST(Certify, RefusesPivotsThatAreNotAnOrder) {
+  const BlockPattern p = constraint_graph(make_family("loop", 6));
+  EXPECT_THROW(certify_block_flops(p, 1, std::vector<int>{0, 1}), ArgumentError);
 }
 
 TEST(Best, IsNeverWorseThanItsCandidates) {
