@@ -65,7 +65,7 @@ Timing time_solver(DirectSolver& s, const SymmetricCsc& a) {
 Command add_bench_command(CLI::App& app) {
   struct Options {
     ProblemArgs problem;
-    std::string ordering = "meca";
+    std::string ordering = "best";
     int dense_max = 1000;
     SymbolicOptions symbolic;
     bool json = false;
@@ -109,7 +109,7 @@ Command add_bench_command(CLI::App& app) {
     const double gflops = flops / (mine.factor_us * 1e3);
     if (o->json) {
       nlohmann::json j = {{"matrix", p.name}, {"n", p.a.n}, {"blocks", p.blocks.num_blocks()},
-                          {"ordering", ordering.name}, {"flops", flops}, {"gflops", number_or_null(gflops)},
+                          {"ordering", ordering.name}, {"chosen", ordering.chosen}, {"flops", flops}, {"gflops", number_or_null(gflops)},
                           {"symbolic_bytes", ours->symbolic().memory_bytes()},
                           {"rsi_entries", ours->symbolic().rsi_size()}, {"supernodes", ours->symbolic().num_supernodes()},
                           {"blas", blas}};
@@ -129,7 +129,7 @@ Command add_bench_command(CLI::App& app) {
       print_json(json_header("bench", std::move(j)));
     } else {
       std::printf("%s: n = %d, %d blocks, ordering %s, %.0f flops, %d supernodes, symbolic phase holds %lld bytes\n",
-                  p.name.c_str(), p.a.n, p.blocks.num_blocks(), ordering.name.c_str(), flops,
+                  p.name.c_str(), p.a.n, p.blocks.num_blocks(), shown_name(ordering).c_str(), flops,
                   ours->symbolic().num_supernodes(), static_cast<long long>(ours->symbolic().memory_bytes()));
       std::printf("BLAS (ours for supernodes, CHOLMOD supernodal): %s\n", blas.c_str());
       std::printf("%-20s %12s %12s %12s %14s %16s\n", "solver", "factor us", "solve us", "GFlop/s",

@@ -125,7 +125,7 @@ void print_table(std::FILE* out, const Problem& p, const std::vector<Row>& rows)
   if (with_cholmod) std::fprintf(out, "  %14s  %14s", "CHOLMOD nnz(L)", "CHOLMOD flops");
   std::fprintf(out, "\n");
   for (const Row& r : rows) {
-    std::fprintf(out, "%-13s  %10s  %9s  %11s  %11s  %9.2f", r.summary.name.c_str(), cell(nnz, r, true).c_str(),
+    std::fprintf(out, "%-13s  %10s  %9s  %11s  %11s  %9.2f", shown_name(r.ordering).c_str(), cell(nnz, r, true).c_str(),
                  cell(flops, r, false).c_str(), cell(block_fill, r, true).c_str(), cell(block_flops, r, false).c_str(),
                  r.summary.time_ms);
     if (r.cholmod) std::fprintf(out, "  %14.0f  %14s", r.cholmod->lnz, si(r.cholmod->fl).c_str());
@@ -168,6 +168,7 @@ nlohmann::json to_json(const Problem& p, const std::vector<Row>& rows) {
   nlohmann::json results = nlohmann::json::array();
   for (const Row& r : rows) {
     nlohmann::json x = {{"ordering", r.summary.name},
+                        {"chosen", r.ordering.chosen},
                         {"nnz_L", r.summary.nnz_L},
                         {"flops", r.summary.flops},
                         {"block_fill_edges", nullptr},
@@ -188,12 +189,44 @@ nlohmann::json to_json(const Problem& p, const std::vector<Row>& rows) {
   return j;
 }
 
+namespace {
+bool reaches(const OrderingSummary& s, const BlockFlopsCertificate& cert) {
+  return s.block && certified_optimal(cert, s.block->flops);
+}
+}  // namespace
+
+void add_certificate(nlohmann::json* j, const std::vector<Row>& rows, const BlockFlopsCertificate& cert) {
+  (*j)["lower_bound_block_flops"] = cert.lower_bound;
+  (*j)["optimum_proved"] = cert.optimal_proved;
+  (*j)["peeled_blocks"] = cert.peeled;
+  (*j)["chordal"] = cert.chordal;
+  (*j)["atoms"] = cert.atoms;
+  (*j)["certify_states"] = cert.states;
+  (*j)["certify_ms"] = cert.time_ms;
+  nlohmann::json& results = (*j)["results"];
+  for (size_t i = 0; i < rows.size(); ++i) {
+    results[i]["certified_optimal"] = reaches(rows[i].summary, cert);
+    results[i]["lower_bound_block_flops"] = cert.lower_bound;
+  }
+}
+
+void print_certificate(std::FILE* out, const std::vector<Row>& rows, const BlockFlopsCertificate& cert) {
+  std::string optimal;
+  for (const Row& r : rows)
+    if (reaches(r.summary, cert)) optimal += (optimal.empty() ? "" : ", ") + shown_name(r.ordering);
+  std::fprintf(out, "certificate: %s %.0f block flops (%d blocks peeled%s, %d atoms, %lld connected sets searched, %.1f ms); %s\n",
+               cert.optimal_proved ? "optimum" : "lower bound", cert.lower_bound, cert.peeled,
+               cert.chordal ? ", chordal" : "", cert.atoms, static_cast<long long>(cert.states), cert.time_ms,
+               optimal.empty() ? "no ordering proved optimal" : ("optimal: " + optimal).c_str());
+}
+
 nlohmann::json to_json(const Problem& p, const Verification& v) {
   const Inertia& in = v.info.inertia;
   return {{"matrix", p.name},
           {"n", p.a.n},
           {"blocks", p.blocks.num_blocks()},
           {"ordering", v.ordering},
+          {"chosen", v.chosen},
           {"nnz_L", v.nnz_L},
           {"cholmod_nnz_L", v.nnz_L_cholmod},
           {"flops", v.flops},

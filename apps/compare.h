@@ -11,6 +11,7 @@
 
 #include "ldlpgs/factor/verify.h"
 #include "ldlpgs/physics/mechanism.h"
+#include "ldlpgs/ordering/certify.h"
 #include "ldlpgs/ordering/metrics.h"
 #include "ldlpgs/sparse/cholmod_adapter.h"
 
@@ -50,6 +51,10 @@ void print_table(std::FILE* out, const Problem& p, const std::vector<Row>& rows)
 void print_markdown_by_metric(std::FILE* out, const std::vector<std::pair<Problem, std::vector<Row>>>& results);
 // The problem's matrix, n, blocks and a row per ordering (README.md, "Command-line vocabulary").
 nlohmann::json to_json(const Problem& p, const std::vector<Row>& rows);
+// order --certify: the certificate's fields, and in each block ordering's row whether it is
+// optimal (its block flops equal the proved optimum or a lower bound).
+void add_certificate(nlohmann::json* j, const std::vector<Row>& rows, const BlockFlopsCertificate& cert);
+void print_certificate(std::FILE* out, const std::vector<Row>& rows, const BlockFlopsCertificate& cert);
 // One verification (verify --json, report/data/verification.*).
 nlohmann::json to_json(const Problem& p, const Verification& v);
 

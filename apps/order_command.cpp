@@ -1,7 +1,9 @@
 // ldlpgs order PROBLEM: every requested ordering on one matrix (a file or a generated mechanism), with nnz(L), flops, block
 // fill and block flops, optionally beside CHOLMOD's own counts for the same permutations.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "apps/commands.h"
 #include "apps/compare.h"
@@ -14,7 +16,8 @@ Command add_order_command(CLI::App& app) {
   struct Options {
     ProblemArgs problem;
     std::string orderings = "all", perm_dir;
-    bool json = false, cholmod = false;
+    bool json = false, cholmod = false, certify = false;
+    double certify_time_limit_s = 10;
   };
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("order", "Compare elimination orderings on a Matrix Market matrix or a generated mechanism");
@@ -24,14 +27,30 @@ Command add_order_command(CLI::App& app) {
   cmd->add_option("--perm-dir", o->perm_dir, "Write DIR/ORDERING.perm: the 0-based scalar pivot order, one a line");
   add_alias(cmd, "--perm-out", &o->perm_dir);
   cmd->add_flag("--cholmod", o->cholmod, "Add CHOLMOD's nnz(L) and flops for each permutation");
+  cmd->add_flag("--certify", o->certify,
+                "Prove which block orderings have the fewest block flops of any order, or give a lower bound");
+  cmd->add_option("--certify-time-limit-s", o->certify_time_limit_s, "Time limit of the exact search of --certify")
+      ->capture_default_str();
   return [o] {
     const std::vector<std::string> names = parse_ordering_list(o->orderings);
+    if (!(o->certify_time_limit_s >= 0) || !std::isfinite(o->certify_time_limit_s))
+      throw InputError("--certify-time-limit-s must be finite and >= 0");
     const Problem p = load_problem(o->problem.spec, o->problem.blocks, o->problem.max_block);
     // a large matrix takes seconds per ordering (METIS, the explicit elimination graph)
     auto before = [&](const std::string& name) {
       if (p.a.n >= kProgressDimension) progress("order", p.name + ": " + name);
     };
     const std::vector<Row> rows = compare(p, names, o->cholmod, before);
+    std::optional<BlockFlopsCertificate> cert;
+    if (o->certify) {
+      if (p.a.n >= kProgressDimension) progress("order", p.name + ": certify");
+      // The block ordering with the fewest block flops prunes the search (or none: no pruning).
+      const Row* known = nullptr;
+      for (const Row& r : rows)
+        if (r.summary.block && (!known || r.summary.block->flops < known->summary.block->flops)) known = &r;
+      cert = certify_block_flops(p.blocks, o->certify_time_limit_s,
+                                 known ? std::span<const int>(known->ordering.pivots) : std::span<const int>());
+    }
     if (!o->perm_dir.empty()) {
       std::error_code ec;
       std::filesystem::create_directories(o->perm_dir, ec);
@@ -43,9 +62,12 @@ Command add_order_command(CLI::App& app) {
       }
     }
     if (o->json) {
-      print_json(json_header("order", to_json(p, rows)));
+      nlohmann::json j = to_json(p, rows);
+      if (cert) add_certificate(&j, rows, *cert);
+      print_json(json_header("order", std::move(j)));
     } else {
       print_table(stdout, p, rows);
+      if (cert) print_certificate(stdout, rows, *cert);
     }
     return 0;
   };

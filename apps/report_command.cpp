@@ -226,7 +226,7 @@ Command add_report_command(CLI::App& app) {
   struct Options {
     std::string matrices = LDLPGS_SOURCE_DIR "/tests/data/matrices", orderings = "all", out = "report";
     std::vector<int> sizes = {100, 1000, 5000};
-    std::string verify = "meca";
+    std::string verify = "best";
     bool markdown = false, cholmod = false, full = false, no_figures = false;
     std::vector<std::string> cases;  // empty: sweep_cases(full)
   };

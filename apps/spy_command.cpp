@@ -33,7 +33,7 @@ namespace ldlpgs::cli {
 namespace {
 
 struct SpyArgs {
-  std::string scene, out, ordering = "meca", scene_out;
+  std::string scene, out, ordering = "best", scene_out;
   bool json = false;
   ShatterArgs shatter;
 };
@@ -87,6 +87,7 @@ int run_spy(const SpyArgs& a) {
                       {"n", h.n},
                       {"density", density},
                       {"ordering", ordering.name},
+                      {"chosen", ordering.chosen},
                       {"flops", symbolic.flops()},
                       {"nnz_L", symbolic.nnz_l()},
                       {"fill_blocks", symbolic.num_fill_edges()},
@@ -106,7 +107,7 @@ int run_spy(const SpyArgs& a) {
   }
   std::printf("%s%s: %d constraints, dim(H) %d, density %.1f%%, %s: %lld fill blocks, nnz(L) %lld, %.0f flops -> %s\n",
               original.name.c_str(), j["shattered"].get<bool>() ? " (shattered)" : "", blocks.num_blocks(), h.n,
-              100 * density, ordering.name.c_str(), static_cast<long long>(symbolic.num_fill_edges()),
+              100 * density, shown_name(ordering).c_str(), static_cast<long long>(symbolic.num_fill_edges()),
               static_cast<long long>(symbolic.nnz_l()), symbolic.flops(),
               a.out.empty() ? "--json-file FILE writes the data" : a.out.c_str());
   return 0;

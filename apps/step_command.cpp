@@ -31,7 +31,7 @@ Mechanism load_mechanism(const std::string& spec) {
 namespace {
 
 struct StepArgs {
-  std::string scene, solver = "ldl-pgs", ordering = "meca", trace;
+  std::string scene, solver = "ldl-pgs", ordering = "best", trace;
   std::string schedule = to_string(SolverOptions{}.schedule);
   int iterations = 10, steps = 200, post_stabilize = StepOptions{}.post_stabilize;
   bool post_stabilize_refactor = false, curvature_target = false;
@@ -149,6 +149,9 @@ int run_step(const StepArgs& a) {
   const Mechanism& end = sim.mechanism();
   const double energy_final = total_energy(end);
   const bool finite = std::isfinite(energy_final) && std::isfinite(worst.error.position_max);
+  // The ordering of H_0's blocks the LDL^T uses (best's winner); none for pgs and block-gs.
+  const Symbolic* symbolic = sim.solver().symbolic();
+  const std::string chosen = symbolic ? symbolic->ordering() : "";
   if (a.json) {
     nlohmann::json j = {{"scene", end.name},
                         {"bodies", end.bodies.size()},
@@ -162,6 +165,8 @@ int run_step(const StepArgs& a) {
                         {"steps", a.steps},
                         {"timestep_s", end.timestep},
                         {"solver", a.solver},
+                        {"ordering", a.ordering},
+                        {"chosen", chosen.empty() ? nlohmann::json(nullptr) : nlohmann::json(chosen)},
                         {"iterations", a.iterations},
                         {"compliance", options.compliance},
                         {"schedule", a.schedule},
@@ -190,6 +195,8 @@ int run_step(const StepArgs& a) {
     std::printf("%s: %zu bodies, %zu constraints, %d rows; %s, %d iterations, %d steps of %g s\n", end.name.c_str(),
                 end.bodies.size(), end.constraints.size(), end.num_rows(), a.solver.c_str(), a.iterations, a.steps,
                 end.timestep);
+    if (symbolic)
+      std::printf("ordering              %s\n", shown_name(a.ordering, chosen).c_str());
     if (loaded)
       std::printf("applied loads         %d bodies, largest force %g N, largest torque %g N m (world frame, constant)\n",
                   loaded, force_max, torque_max);
@@ -279,7 +286,7 @@ Command add_step_command(CLI::App& app) {
 
 Command add_export_command(CLI::App& app) {
   struct Args {
-    std::string scene, matrix, blocks, ordering = "meca";
+    std::string scene, matrix, blocks, ordering = "best";
     double compliance = StepOptions{}.compliance;
     bool json = false;
     ShatterArgs shatter;
@@ -311,16 +318,22 @@ Command add_export_command(CLI::App& app) {
     if (!out) throw InputError(a->blocks + ": cannot write the block sizes");
     out << "% block sizes of " << a->matrix << ": one equality constraint per block, in row order\n";
     for (int s : sizes) out << s << '\n';
+    // The ordering a factor of the written H would use (best's winner), on its blocks.
+    const BlockPattern blocks = BlockPattern::from_scalar(h, sizes);
+    const std::string chosen = blocks.num_blocks() ? compute_ordering(find_ordering(a->ordering), blocks, h).chosen : "";
     if (a->json) {
       print_json(json_header("export", {{"scene", m.name},
                                         {"n", h.n},
                                         {"blocks", sizes.size()},
                                         {"nnz_lower", h.nnz()},
+                                        {"ordering", a->ordering},
+                                        {"chosen", chosen.empty() ? nlohmann::json(nullptr) : nlohmann::json(chosen)},
                                         {"matrix_file", a->matrix},
                                         {"blocks_file", a->blocks}}));
     } else {
-      std::printf("%s: n = %d, %zu blocks, nnz(lower) = %lld -> %s, %s\n", m.name.c_str(), h.n, sizes.size(),
-                  static_cast<long long>(h.nnz()), a->matrix.c_str(), a->blocks.c_str());
+      std::printf("%s: n = %d, %zu blocks, nnz(lower) = %lld, ordering %s -> %s, %s\n", m.name.c_str(), h.n,
+                  sizes.size(), static_cast<long long>(h.nnz()), shown_name(a->ordering, chosen).c_str(),
+                  a->matrix.c_str(), a->blocks.c_str());
     }
     return 0;
   };

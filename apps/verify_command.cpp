@@ -14,7 +14,8 @@ namespace ldlpgs::cli {
 namespace {
 
 void print(const Problem& p, const Verification& v) {
-  std::printf("%s: n = %d, %d blocks, ordering %s\n", p.name.c_str(), p.a.n, p.blocks.num_blocks(), v.ordering.c_str());
+  std::printf("%s: n = %d, %d blocks, ordering %s\n", p.name.c_str(), p.a.n, p.blocks.num_blocks(),
+              shown_name(v.ordering, v.chosen).c_str());
   std::printf("%-24s %14s %14s\n", "", "ldlpgs", "CHOLMOD");
   std::printf("%-24s %14lld %14lld\n", "nnz(L)", static_cast<long long>(v.nnz_L), static_cast<long long>(v.nnz_L_cholmod));
   std::printf("%-24s %14.0f %14.0f\n", "flops", v.flops, v.flops_cholmod);
@@ -62,7 +63,7 @@ void print_verification_table(std::FILE* out, const std::vector<std::pair<std::s
 Command add_verify_command(CLI::App& app) {
   struct Options {
     ProblemArgs problem;
-    std::string ordering = "meca";
+    std::string ordering = "best";
     VerifyTolerance tolerance;
     bool json = false;
   };

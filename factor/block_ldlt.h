@@ -33,7 +33,7 @@ struct BlockLDLTOptions {
   std::string blocks = "auto";    // "auto" (identical consecutive rows), N (uniform), or a file of block sizes
   std::vector<int> block_sizes{}; // the partition itself, in row order (if given, `blocks` is not read)
   int max_block = 6;              // the largest block "auto" forms
-  std::string ordering = "meca";  // a name of orderings() (ordering/ordering.h)
+  std::string ordering = "best";  // a name of orderings() (ordering/ordering.h)
   FactorOptions factor{};         // regularization eps diag(H), zero-pivot threshold
 };
 

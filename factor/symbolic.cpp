@@ -30,8 +30,10 @@ void unmark_column(const std::vector<int>& edge_ptr, const std::vector<int>& edg
 
 Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, const Ordering& ordering,
                            const SymbolicOptions& options) {
-  if (ordering.level == Level::scalar) return analyze(pattern, BlockPattern::unit(pattern), ordering.pivots, options);
-  return analyze(pattern, blocks, ordering.pivots, options);
+  Symbolic s = ordering.level == Level::scalar ? analyze(pattern, BlockPattern::unit(pattern), ordering.pivots, options)
+                                               : analyze(pattern, blocks, ordering.pivots, options);
+  s.ordering_ = ordering.chosen;
+  return s;
 }
 
 Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, std::span<const int> pivots,

@@ -22,6 +22,7 @@
 // the RSI are per supernode; a pivot not merged is a supernode of one.
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "ldlpgs/ordering/ordering.h"
@@ -55,6 +56,8 @@ class Symbolic {
   static Symbolic analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, const Ordering& ordering,
                           const SymbolicOptions& options = {});
 
+  // The ordering that gave the pivots (Ordering::chosen: best's winner); empty from bare pivots.
+  const std::string& ordering() const { return ordering_; }
   int num_rows() const { return n_; }
   int num_pivots() const { return static_cast<int>(size_.size()); }
   int64_t num_values() const { return sn_node_offset_.empty() ? 0 : sn_node_offset_.back(); }
@@ -121,6 +124,7 @@ class Symbolic {
 
  private:
   int n_ = 0;
+  std::string ordering_;              // Ordering::chosen of the ordering analysed, or empty
   std::vector<int> block_;            // original block of each pivot (size num_pivots)
   std::vector<int> size_;             // block size d_k (size num_pivots)
   std::vector<int> row_start_;        // permuted row of each pivot's first row (size num_pivots+1)

@@ -80,6 +80,7 @@ Verification verify_against_cholmod(const SymmetricCsc& a, const BlockPattern& b
                                     const VerifyTolerance& tolerance, const SymbolicOptions& symbolic) {
   Verification v;
   v.ordering = ordering.name;
+  v.chosen = ordering.chosen;
   v.tolerance = tolerance;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> x_true(a.n), b(a.n);

@@ -26,6 +26,7 @@ struct VerifyTolerance {
 
 struct Verification {
   std::string ordering;
+  std::string chosen;  // the ordering that gave the pivots (Ordering::chosen: best's winner)
   int64_t nnz_L = 0, nnz_L_cholmod = 0;  // entries of L with the diagonal; ours counts dense blocks
   double flops = 0, flops_cholmod = 0;   // sum over columns of (column count)^2, both
   // max |L - L_cholmod| / max |L_cholmod| over strictly lower entries (an entry missing from one

@@ -53,7 +53,7 @@ BlockCosts block_costs(const BlockPattern& pattern, std::span<const int> pivots,
     int64_t h = 0;
     for (int q : e.column(k)) h += pattern.block(pivots[q]).size;
     c.nnz_L += d * (d + 1) / 2 + h * d;
-    c.flops += static_cast<double>(d * (d + 1) * (2 * d + 1) / 6 + h * d * (d + 1) + d * h * h);
+    c.flops += block_pivot_flops(d, h);
   }
   return c;
 }

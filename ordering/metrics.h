@@ -32,6 +32,10 @@ struct BlockCosts {
   int64_t nnz_L = 0;       // scalar entries stored by the block factor (dense blocks)
   double flops = 0;        // as above
 };
+// The flops above for one pivot of d rows whose column of L holds h rows below it.
+inline double block_pivot_flops(int64_t d, int64_t h) {
+  return static_cast<double>(d * (d + 1) * (2 * d + 1) / 6 + h * d * (d + 1) + d * h * h);
+}
 BlockCosts block_costs(const BlockPattern& pattern, std::span<const int> pivots, const Elimination& e);
 
 }  // namespace ldlpgs

@@ -10,7 +10,8 @@
 namespace ldlpgs {
 
 namespace {
-constexpr std::array<OrderingInfo, 9> kOrderings = {{
+constexpr std::array<OrderingInfo, 10> kOrderings = {{
+    {"best", order_best, Level::block, "the fewest block flops of meca, meca-w, amd, metis, mda-w, mda", choose_best},
     {"natural", order_natural, Level::block, "blocks in their given order"},
     {"mda", order_mda, Level::block, "minimum degree, in blocks"},
     {"mda-w", order_mda_w, Level::block, "minimum degree, in rows (neighbours weighted by size)"},
@@ -54,6 +55,13 @@ std::vector<std::string> parse_ordering_list(std::string_view list) {
   return names;
 }
 
+std::string shown_name(std::string_view name, std::string_view chosen) {
+  std::string s(name);
+  if (!chosen.empty() && chosen != name) s += " (" + std::string(chosen) + ")";
+  return s;
+}
+std::string shown_name(const Ordering& o) { return shown_name(o.name, o.chosen); }
+
 std::vector<int> expand_pivots(const BlockPattern& pattern, std::span<const int> pivots) {
   std::vector<int> perm;
   perm.reserve(pattern.num_rows());
@@ -74,7 +82,14 @@ Ordering compute_ordering(const OrderingInfo& info, const BlockPattern& blocks, 
   const BlockPattern unit = info.level == Level::scalar ? BlockPattern::unit(a) : BlockPattern();
   const BlockPattern& pattern = info.level == Level::scalar ? unit : blocks;
   const auto start = std::chrono::steady_clock::now();
-  o.pivots = info.fn(pattern);
+  if (info.choose) {
+    Choice c = info.choose(pattern);
+    o.pivots = std::move(c.pivots);
+    o.chosen = std::move(c.chosen);
+  } else {
+    o.pivots = info.fn(pattern);
+    o.chosen = info.name;
+  }
   o.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   o.perm = expand_pivots(pattern, o.pivots);
   o.elimination = eliminate(pattern, o.pivots);

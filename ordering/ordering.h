@@ -7,11 +7,14 @@
 //   meca.cpp             meca, meca-w minimum edge creation (the talk's MECA), edges or entries
 //   amd.cpp              amd          SuiteSparse AMD on the block graph
 //   metis.cpp            metis        METIS nested dissection, block sizes as vertex weights
+//   best.cpp             best         the candidates below, each once; the fewest block flops
+//   certify.h            certify      a proof that an order has the fewest block flops, or a bound
 //   metrics.h            nnz(L) and flops as CHOLMOD counts them, block fill and block flops
 //
 // Every ordering has one signature, OrderingFn: a block graph in, a pivot sequence out. The
 // `-scalar` variants (amd-scalar, metis-scalar) run the same function on the scalar graph (one
 // block per row): they may split blocks, so they are references for fill and flops only.
+#include <array>
 #include <span>
 #include <string>
 #include <string_view>
@@ -33,6 +36,16 @@ std::vector<int> order_meca(const BlockPattern& pattern);
 std::vector<int> order_meca_w(const BlockPattern& pattern);
 std::vector<int> order_amd(const BlockPattern& pattern);
 std::vector<int> order_metis(const BlockPattern& pattern);
+std::vector<int> order_best(const BlockPattern& pattern);
+
+// The orderings `best` runs, in the order that breaks its ties (best.cpp).
+inline constexpr std::array<std::string_view, 6> kBestCandidates = {"meca", "meca-w", "amd", "metis", "mda-w", "mda"};
+// What a choosing ordering returns: its pivots and the name of the ordering that gave them.
+struct Choice {
+  std::vector<int> pivots;  // (size num_blocks)
+  std::string chosen;       // a name of kBestCandidates
+};
+Choice choose_best(const BlockPattern& pattern);
 
 // Ties between blocks of equal key (degree, or edges created) are broken by the lowest block
 // index, or the highest, or (MECA only) the least degree first, then the lowest index. The
@@ -49,6 +62,7 @@ struct OrderingInfo {
   OrderingFn fn;
   Level level;  // scalar: run on the scalar graph
   std::string_view summary;
+  Choice (*choose)(const BlockPattern&) = nullptr;  // set for `best`: fn, and which ordering won
 };
 
 // All orderings, in the order reports list them.
@@ -61,6 +75,7 @@ std::vector<std::string> parse_ordering_list(std::string_view list);
 // An ordering computed for a matrix: the same type for every ordering.
 struct Ordering {
   std::string name;
+  std::string chosen;       // the ordering whose pivots these are: `name`, or best's winner
   Level level = Level::block;
   std::vector<int> pivots;  // pivot sequence on the pattern it ran on: blocks for block
                             // orderings, rows for scalar ones (size num_blocks or n)
@@ -68,6 +83,10 @@ struct Ordering {
   Elimination elimination;  // eliminated edges per pivot, on the pattern it ran on
   double time_ms = 0;       // time of the ordering function alone
 };
+
+// The name a table shows: the ordering, and the one that won when they differ ("best (meca-w)").
+std::string shown_name(std::string_view name, std::string_view chosen);
+std::string shown_name(const Ordering& o);
 
 // Expands a block pivot sequence into the scalar pivot order (rows of each block in order).
 std::vector<int> expand_pivots(const BlockPattern& pattern, std::span<const int> pivots);

@@ -12,6 +12,7 @@
 #include "convert.h"
 #include "ldlpgs/factor/factor.h"
 #include "ldlpgs/factor/verify.h"
+#include "ldlpgs/ordering/certify.h"
 #include "ldlpgs/ordering/metrics.h"
 #include "ldlpgs/ordering/ordering.h"
 #include "ldlpgs/version.h"
@@ -125,25 +126,46 @@ void bind_factor(py::module_& m) {
 
   m.def(
       "order",
-      [](py::handle a_in, py::handle blocks, py::handle orderings_arg, int max_block, bool cholmod, bool lower) {
+      [](py::handle a_in, py::handle blocks, py::handle orderings_arg, int max_block, bool cholmod, bool lower,
+         bool certify, double certify_time_limit_s) {
         const std::vector<std::string> names = ordering_names(orderings_arg);
         const SymmetricCsc a = symmetric_from_scipy(a_in, lower);
         const BlockPattern bp = block_pattern_from(blocks, a, max_block);
         const Graph scalar_graph = graph_of(a);
         std::optional<Cholmod> cm;
         if (cholmod) cm.emplace();
-        py::dict out;
+        if (!(certify_time_limit_s >= 0) || !std::isfinite(certify_time_limit_s))
+          throw py::value_error("certify_time_limit_s must be finite and >= 0");
+        std::vector<std::pair<Ordering, OrderingSummary>> computed;
+        const std::pair<Ordering, OrderingSummary>* known = nullptr;  // fewest block flops: prunes certify
         for (const std::string& name : names) {
-          const Ordering o = compute_ordering(find_ordering(name), bp, a);
-          const OrderingSummary s = summarize(o, bp, scalar_graph);
+          Ordering o = compute_ordering(find_ordering(name), bp, a);
+          OrderingSummary s = summarize(o, bp, scalar_graph);
+          computed.emplace_back(std::move(o), std::move(s));
+        }
+        for (const auto& c : computed)
+          if (c.second.block && (!known || c.second.block->flops < known->second.block->flops)) known = &c;
+        std::optional<BlockFlopsCertificate> cert;
+        if (certify)
+          cert = certify_block_flops(bp, certify_time_limit_s,
+                                     known ? std::span<const int>(known->first.pivots) : std::span<const int>());
+        py::dict out;
+        for (const auto& [o, s] : computed) {
+          const std::string& name = s.name;
           py::dict r;
           r["ordering"] = s.name;
+          r["chosen"] = o.chosen;
           r["perm"] = numpy_copy<int>(o.perm);
           r["nnz_L"] = s.nnz_L;
           r["flops"] = s.flops;
           r["block_fill_edges"] = s.block ? py::object(py::int_(s.block->fill_edges)) : py::object(py::none());
           r["block_flops"] = s.block ? py::object(py::float_(s.block->flops)) : py::object(py::none());
           r["ordering_ms"] = s.time_ms;
+          if (cert) {  // as `ldlpgs order --certify --json` (apps/compare.cpp)
+            r["certified_optimal"] = s.block && certified_optimal(*cert, s.block->flops);
+            r["lower_bound_block_flops"] = cert->lower_bound;
+            r["optimum_proved"] = cert->optimal_proved;
+          }
           if (cm) {
             const CholmodCounts c = cholmod_counts(a, o.perm, *cm);
             r["cholmod_nnz_L"] = static_cast<int64_t>(c.lnz);
@@ -154,13 +176,17 @@ void bind_factor(py::module_& m) {
         return out;
       },
       py::arg("A"), py::arg("blocks") = "auto", py::arg("orderings") = "all", py::arg("max_block") = 6,
-      py::arg("cholmod") = false, py::arg("lower") = false,
+      py::arg("cholmod") = false, py::arg("lower") = false, py::arg("certify") = false,
+      py::arg("certify_time_limit_s") = 10.0,
       (std::string("Every requested ordering on A's block graph (what `ldlpgs order --json` prints): a dict from "
                    "ordering name to a dict with perm (the scalar pivot order, perm[k] = row eliminated k-th), "
                    "nnz_L and flops (scalar, as CHOLMOD counts them), block_fill_edges and block_flops (None for "
                    "the -scalar orderings, which may split blocks) and ordering_ms; with cholmod=True also "
                    "cholmod_nnz_L and cholmod_flops, CHOLMOD's counts for the same permutation (the names of "
-                   "the README's vocabulary).\n"
+                   "the README's vocabulary); chosen, the ordering that gave perm (best's winner); with "
+                   "certify=True also certified_optimal (no block order has fewer block flops), "
+                   "lower_bound_block_flops and optimum_proved (the bound is the optimum), as `ldlpgs order "
+                   "--certify`, within certify_time_limit_s.\n"
                    "orderings: \"all\", comma-separated names, or a sequence of names (see orderings()).\n") +
        kMatrixDoc)
           .c_str());
@@ -252,6 +278,8 @@ void bind_factor(py::module_& m) {
           "min over pivots of |d_r| / |A_rr|: near 0 means nearly singular.")
       .def_property_readonly("n", [](const Factor& f) { return f.n(); })
       .def_property_readonly("ordering", [](const Factor& f) { return f.ordering.name; })
+      .def_property_readonly("chosen", [](const Factor& f) { return f.ordering.chosen; },
+                             "The ordering whose pivots the factor uses: `ordering`, or the one `best` chose.")
       .def_property_readonly("nnz_L", [](const Factor& f) { return f.symbolic->nnz_l(); },
                              "Entries of L with the diagonal, every block dense.")
       .def_property_readonly("flops", [](const Factor& f) { return f.symbolic->flops(); },
@@ -263,7 +291,7 @@ void bind_factor(py::module_& m) {
                (f.factored() ? to_string(f.numeric->info().status) : "unfactored") + ">";
       });
 
-  m.def("analyze", &analyze, py::arg("A"), py::arg("blocks") = "auto", py::arg("ordering") = "meca",
+  m.def("analyze", &analyze, py::arg("A"), py::arg("blocks") = "auto", py::arg("ordering") = "best",
         py::arg("max_block") = 6, py::arg("lower") = false,
         (std::string("The ordering and symbolic phase of A's block LDL^T (values ignored); then "
                      "f.factorize(A). ordering: a name from orderings().\n") +
@@ -289,6 +317,7 @@ void bind_factor(py::module_& m) {
         d["n"] = a.n;
         d["blocks"] = bp.num_blocks();
         d["ordering"] = v.ordering;
+        d["chosen"] = v.chosen;
         d["nnz_L"] = v.nnz_L;
         d["cholmod_nnz_L"] = v.nnz_L_cholmod;
         d["flops"] = v.flops;
@@ -315,7 +344,7 @@ void bind_factor(py::module_& m) {
         d["ok"] = v.ok;
         return d;
       },
-      py::arg("A"), py::arg("blocks") = "auto", py::arg("ordering") = "meca", py::arg("max_block") = 6,
+      py::arg("A"), py::arg("blocks") = "auto", py::arg("ordering") = "best", py::arg("max_block") = 6,
       py::arg("tolerance") = VerifyTolerance{}.factor, py::arg("per_condition") = VerifyTolerance{}.per_condition,
       py::arg("backward_tolerance") = VerifyTolerance{}.backward, py::arg("name") = "A", py::arg("lower") = false,
       (std::string("Our block LDL^T against CHOLMOD's simplicial LDL^T in the same pivot order, and both solutions "

@@ -54,7 +54,7 @@ struct SolverOptions {
   // Iterations over all rows: pgs and block-gs do this many sweeps; ldl-pgs does iterations - 1
   // PGS sweeps and one block GS sweep (the talk's N-1 + 1); direct ignores it.
   int iterations = 10;
-  std::string ordering = "meca";  // elimination ordering of H's blocks (ordering/)
+  std::string ordering = "best";  // elimination ordering of H's blocks (ordering/)
   HybridSchedule schedule = HybridSchedule::talk;  // ldl-pgs with inequality rows
 };
 

@@ -158,7 +158,8 @@ TEST(LdlpgsBench, JsonFields) {
     EXPECT_GT(j[key].get<double>(), 0) << key;
   EXPECT_TRUE(j["eigen_dense_factor_us"].is_null());  // n > --dense-max
   EXPECT_GT(j["gflops"].get<double>(), 0);
-  EXPECT_EQ(j["ordering"], "meca");
+  EXPECT_EQ(j["ordering"], "best");  // the default, and the one it chose
+  EXPECT_TRUE(j["chosen"].is_string());
   for (const auto& item : j.items())  // ours, and each other solver's prefixed with its name
     if (item.key().ends_with("backward_error") && !item.value().is_null()) {
       EXPECT_LE(item.value().get<double>(), 1e-14) << item.key();
@@ -301,6 +302,10 @@ TEST(LdlpgsBadInput, UnknownOrdering) {
   expect_input_error("order " + kMatrices + "/bcsstk01.mtx --ordering mda,colamd", {"colamd", "meca"});
 }
 
+TEST(LdlpgsBadInput, NegativeCertifyTimeLimit) {
+  expect_input_error("order chain:5 --certify --certify-time-limit-s -1", {"--certify-time-limit-s"});
+}
+
 TEST(LdlpgsBadInput, UnknownOption) {
   expect_input_error("order " + kMatrices + "/bcsstk01.mtx --frobnicate", {"frobnicate"});
 }
@@ -413,7 +418,8 @@ TEST(LdlpgsSpy, MechanismFiftyHasTheTalksSize) {
   EXPECT_EQ(j["constraints"], 50);  // the talk's: 50 constraints, dim(H) = 246, 12% dense
   EXPECT_EQ(j["n"], 246);
   EXPECT_NEAR(j["density"].get<double>(), 0.12, 0.005);
-  EXPECT_EQ(j["ordering"], "meca");
+  EXPECT_EQ(j["ordering"], "best");
+  EXPECT_TRUE(j["chosen"].is_string());
 }
 
 TEST(LdlpgsSpy, TrackedVehicleAgainstExportAndCholmod) {
@@ -780,6 +786,7 @@ bool has_type(const nlohmann::json& v, const std::string& type) {
   if (type == "number") return v.is_number();
   if (type == "number?") return v.is_number() || v.is_null();
   if (type == "string") return v.is_string();
+  if (type == "string?") return v.is_string() || v.is_null();
   if (type == "boolean") return v.is_boolean();
   if (type == "object") return v.is_object();
   ADD_FAILURE() << "the vocabulary names an unknown type " << type;
@@ -844,7 +851,7 @@ TEST(LdlpgsVocabulary, EverySubcommandsJsonSpeaksIt) {
   ASSERT_FALSE(vocabulary.empty());
   const std::string m = kMatrices + "/bcsstk01.mtx", mtx = temp_path("v.mtx"), blocks = temp_path("v.blocks");
   const std::pair<std::string, std::string> runs[] = {
-      {"order", "order " + m + " --cholmod --ordering meca,amd-scalar --json"},
+      {"order", "order " + m + " --cholmod --ordering meca,amd-scalar --certify --json"},
       {"verify", "verify " + m + " --json"},
       {"bench", "bench chain:10 --dense-max 100 --json"},
       {"step", "step four-bar --steps 20 --json"},
@@ -1138,5 +1145,38 @@ TEST(LdlpgsRobust, MassRatioBeyondTheSupportedRangeExitsOne) {
   EXPECT_EQ(supported.code, 0) << supported.err;
   EXPECT_TRUE(nlohmann::json::parse(supported.out)["failure"].is_null());
 }
+
+// Issue 15: on the talk's tracked vehicle meca gives 41,400 block flops; best chooses meca-w's
+// 38,300, and --certify proves no block order has fewer.
+TEST(LdlpgsOrder, CertifiesTheTrackedVehicle) {
+  const std::string mtx = temp_path("tracked.mtx"), blocks = temp_path("tracked.blocks");
+  ASSERT_EQ(run("export tracked-vehicle --matrix-file " + mtx + " --blocks-file " + blocks).code, 0);
+  const std::string order = "order " + mtx + " --blocks " + blocks + " --orderings best,meca --certify";
+  const nlohmann::json j = vocabulary_test::json_of(order + " --json");
+  ASSERT_EQ(j["results"].size(), 2u);
+  const nlohmann::json& best = j["results"][0];
+  EXPECT_EQ(best["ordering"], "best");
+  EXPECT_EQ(best["chosen"], "meca-w");
+  EXPECT_EQ(best["block_flops"], 38300);
+  EXPECT_TRUE(best["certified_optimal"].get<bool>());
+  EXPECT_EQ(best["lower_bound_block_flops"], 38300);
+  EXPECT_EQ(j["results"][1]["block_flops"], 41400);
+  EXPECT_FALSE(j["results"][1]["certified_optimal"].get<bool>());
+  EXPECT_TRUE(j["optimum_proved"].get<bool>());
+  const Result text = run(order);
+  ASSERT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("certificate: optimum 38300 block flops"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("optimal: best (meca-w)\n"), std::string::npos) << text.out;
+}
+
+// Out of time: a lower bound, below the orderings' flops, and nothing certified.
+TEST(LdlpgsOrder, CertifyOutOfTimeGivesALowerBound) {
+  const nlohmann::json j = vocabulary_test::json_of("order grid:200 --ordering best --certify --certify-time-limit-s 0 --json");
+  EXPECT_FALSE(j["optimum_proved"].get<bool>());
+  EXPECT_LT(j["lower_bound_block_flops"].get<double>(), j["results"][0]["block_flops"].get<double>());
+  EXPECT_FALSE(j["results"][0]["certified_optimal"].get<bool>());
+}
+
 }  // namespace
+
 }  // namespace ldlpgs

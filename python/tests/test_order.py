@@ -72,3 +72,19 @@ def test_orderings_listed():
     names = ldlpgs.orderings()
     assert "meca" in names and "amd-scalar" in names
     assert list(ldlpgs.order(matrix("LFAT5.mtx"))) == list(names)
+
+
+def test_certify_and_chosen_match_program():
+    name = REAL[0]
+    cli = run_json("order", MATRICES / name, "--ordering", "best,meca", "--certify")
+    py = ldlpgs.order(matrix(name), orderings="best,meca", certify=True)
+    for r in cli["results"]:
+        p = py[r["ordering"]]
+        for key in ("chosen", "block_flops", "certified_optimal", "lower_bound_block_flops"):
+            assert p[key] == r[key], f"{r['ordering']}: {key}"
+        assert p["optimum_proved"] == cli["optimum_proved"]
+    assert py["best"]["block_flops"] <= py["meca"]["block_flops"]
+    f = ldlpgs.analyze(matrix(name))
+    assert f.ordering == "best" and f.chosen == py["best"]["chosen"]
+    with pytest.raises(ValueError, match="certify_time_limit_s"):
+        ldlpgs.order(matrix(name), certify=True, certify_time_limit_s=-1)
