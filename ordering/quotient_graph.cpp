@@ -300,12 +300,18 @@ std::vector<int> quotient_order(const BlockPattern& pattern, const QuotientOptio
     // Blocks outside L_p next to two or more of it may have lost fill (the new edges of L_p's
     // clique join some of their neighbours): rescore those that the exact count can afford,
     // reached by original edges and small elements, as the exact game lowers them.
-    if (opt.score == QuotientScore::fill && kExactDegree > 0) {
+    // A pivot known to be simplicial (exact fill 0) created no edge, and a block next to only
+    // one block of L_p gained no edge among its neighbours: both are skipped.
+    if (opt.score == QuotientScore::fill && exact[p] != 0) {
       ++stamp;
       for (int i : lp) mark[i] = stamp;
       mark[p] = stamp;
       auto touch = [&](int x) {
         if (status[x] != kVariable || mark[x] == stamp) return;
+        if (seen[x] != stamp) {  // the first block of L_p next to x (seen[] is free for variables)
+          seen[x] = stamp;
+          return;
+        }
         mark[x] = stamp;
         if (degree[x].c > kExactDegree) return;
         const int64_t f = exact_fill(x, kExactBudget);
