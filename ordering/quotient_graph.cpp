@@ -5,8 +5,11 @@
 // (SIMAX 1998), whose approximate minimum local fill subtracts from the pairs of the degree
 // bound the pairs already joined by the newest element. We subtract the largest element among
 // E_i instead (each element is a clique, so any one of them may be subtracted; the largest
-// makes the bound tightest): a variable whose neighbours all lie in one element, a simplicial
-// one, scores exactly 0, which keeps meca's zero fill on chordal block graphs.
+// makes the bound tightest): a variable whose neighbours all lie in one element scores exactly
+// 0. That alone does not see original edges among the neighbours (no block of the input graph
+// looks simplicial), and left fill on trees; where the neighbourhood is small the fill is
+// therefore counted exactly (exact_fill below), which restores meca's zero fill on chordal
+// block graphs (tests/quotient_graph_test.cpp fails without it).
 //
 // Lists are std::vectors per variable and element rather than AMD's single workspace: simpler,
 // and at 1e5 blocks not the bottleneck (bench/orderings_bench). The queue is a binary heap with
@@ -126,7 +129,8 @@ std::vector<int> quotient_order(const BlockPattern& pattern, const QuotientOptio
   //   (degree, budget)  none           (8, 512)       (16, 1024)     (32, 4096)
   //   meca              1.028 (1.52)   1.014 (1.59)   1.004 (1.19)   1.006 (1.22)
   //   meca-w            1.036 (1.22)   1.006 (1.11)   1.002 (1.08)   1.000 (1.03)
-  // with bcsstk13's ordering time 4.6, 9, 6.4 and 11 ms (AMD 1.5 ms). Without it no block is
+  // with bcsstk13's ordering time 4.6, 9, 6.4 and 11 ms (AMD 1.5 ms; single runs on a loaded
+  // machine, before the outside rescoring below was restricted). Without it no block is
   // simplicial until an element covers it, and meca leaves fill on trees.
   constexpr int64_t kExactDegree = 16, kExactBudget = 1024;
   auto rescore = [&](int i) {

@@ -49,7 +49,8 @@ struct Mass {
 // that the score may subtract), own the mass of i itself, own_max the largest weight in i.
 enum class QuotientScore {
   degree,         // mda, mda-w: d.w + own.w - own_max (the degree of i's heaviest block)
-  fill,           // meca, meca-w: d.pairs() - cover.pairs() (approximate fill)
+  fill,           // meca, meca-w: d.pairs() - cover.pairs() (approximate fill), or the fill
+                  // counted exactly where the neighbourhood is small (quotient_graph.cpp)
 };
 
 struct QuotientOptions {
