@@ -1,5 +1,6 @@
 // Minimum degree (the talk's MDA): repeatedly eliminate a block of least degree in the current
-// elimination graph. Played on the explicit graph (no quotient graph, unlike AMD), with a
+// elimination graph. mda and mda-w run on the quotient graph (quotient_graph.h) with AMD's
+// approximate degree; mda-exact and mda-w-exact below play the explicit graph, with a
 // priority set keyed by (degree, block index): O(log n) per degree update, and the degrees of
 // only the eliminated block's neighbours change.
 //
@@ -13,6 +14,7 @@
 #include <tuple>
 
 #include "ldlpgs/ordering/ordering.h"
+#include "ldlpgs/ordering/quotient_graph.h"
 
 namespace ldlpgs {
 std::vector<int> minimum_degree(const BlockPattern& pattern, bool weighted, TieBreak tie) {
@@ -46,11 +48,17 @@ std::vector<int> minimum_degree(const BlockPattern& pattern, bool weighted, TieB
   return pivots;
 }
 
-std::vector<int> order_mda(const BlockPattern& pattern) {
+std::vector<int> order_mda_exact(const BlockPattern& pattern) {
   return minimum_degree(pattern, false, TieBreak::highest_index);
 }
-std::vector<int> order_mda_w(const BlockPattern& pattern) {
+std::vector<int> order_mda_w_exact(const BlockPattern& pattern) {
   return minimum_degree(pattern, true, TieBreak::highest_index);
+}
+std::vector<int> order_mda(const BlockPattern& pattern) {
+  return quotient_order(pattern, {QuotientScore::degree, false, TieBreak::highest_index});
+}
+std::vector<int> order_mda_w(const BlockPattern& pattern) {
+  return quotient_order(pattern, {QuotientScore::degree, true, TieBreak::highest_index});
 }
 
 }  // namespace ldlpgs

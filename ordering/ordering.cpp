@@ -10,13 +10,17 @@
 namespace ldlpgs {
 
 namespace {
-constexpr std::array<OrderingInfo, 10> kOrderings = {{
+constexpr std::array<OrderingInfo, 14> kOrderings = {{
     {"best", order_best, Level::block, "the fewest block flops of meca, meca-w, amd, metis, mda-w, mda", choose_best},
     {"natural", order_natural, Level::block, "blocks in their given order"},
-    {"mda", order_mda, Level::block, "minimum degree, in blocks"},
-    {"mda-w", order_mda_w, Level::block, "minimum degree, in rows (neighbours weighted by size)"},
-    {"meca", order_meca, Level::block, "minimum edge creation: fewest new block edges"},
-    {"meca-w", order_meca_w, Level::block, "minimum edge creation: fewest new scalar entries"},
+    {"mda", order_mda, Level::block, "minimum degree, in blocks (quotient graph, approximate degrees)"},
+    {"mda-w", order_mda_w, Level::block, "minimum degree, in rows (quotient graph, approximate degrees)"},
+    {"meca", order_meca, Level::block, "minimum edge creation: fewest new block edges (quotient graph, approximate)"},
+    {"meca-w", order_meca_w, Level::block, "minimum edge creation: fewest new scalar entries (quotient graph, approximate)"},
+    {"mda-exact", order_mda_exact, Level::block, "minimum degree, in blocks, on the explicit graph"},
+    {"mda-w-exact", order_mda_w_exact, Level::block, "minimum degree, in rows, on the explicit graph"},
+    {"meca-exact", order_meca_exact, Level::block, "minimum edge creation, block edges, on the explicit graph"},
+    {"meca-w-exact", order_meca_w_exact, Level::block, "minimum edge creation, scalar entries, on the explicit graph"},
     {"amd", order_amd, Level::block, "SuiteSparse AMD on the block graph"},
     {"amd-scalar", order_amd, Level::scalar, "SuiteSparse AMD on the scalar graph (may split blocks)"},
     {"metis", order_metis, Level::block, "METIS_NodeND on the block graph, sizes as weights"},

@@ -3,8 +3,13 @@
 //
 //   elimination_graph.h  the elimination game: EliminationGraph, eliminate() -> Elimination
 //   natural.cpp          natural      blocks in their given order
-//   mda.cpp              mda, mda-w   minimum degree (the talk's MDA), degree in blocks or rows
-//   meca.cpp             meca, meca-w minimum edge creation (the talk's MECA), edges or entries
+//   quotient_graph.h     the quotient graph (elements, supervariables, approximate degrees)
+//   mda.cpp              mda, mda-w   minimum degree (the talk's MDA), degree in blocks or rows,
+//                                     on the quotient graph; mda-exact, mda-w-exact on the
+//                                     explicit elimination graph
+//   meca.cpp             meca, meca-w minimum edge creation (the talk's MECA), edges or entries,
+//                                     approximate fill on the quotient graph; meca-exact and
+//                                     meca-w-exact count it exactly on the explicit graph
 //   amd.cpp              amd          SuiteSparse AMD on the block graph
 //   metis.cpp            metis        METIS nested dissection, block sizes as vertex weights
 //   best.cpp             best         the candidates below, each once; the fewest block flops
@@ -34,6 +39,10 @@ std::vector<int> order_mda(const BlockPattern& pattern);
 std::vector<int> order_mda_w(const BlockPattern& pattern);
 std::vector<int> order_meca(const BlockPattern& pattern);
 std::vector<int> order_meca_w(const BlockPattern& pattern);
+std::vector<int> order_mda_exact(const BlockPattern& pattern);
+std::vector<int> order_mda_w_exact(const BlockPattern& pattern);
+std::vector<int> order_meca_exact(const BlockPattern& pattern);
+std::vector<int> order_meca_w_exact(const BlockPattern& pattern);
 std::vector<int> order_amd(const BlockPattern& pattern);
 std::vector<int> order_metis(const BlockPattern& pattern);
 std::vector<int> order_best(const BlockPattern& pattern);
@@ -49,8 +58,9 @@ Choice choose_best(const BlockPattern& pattern);
 
 // Ties between blocks of equal key (degree, or edges created) are broken by the lowest block
 // index, or the highest, or (MECA only) the least degree first, then the lowest index. The
-// defaults in order_mda and order_meca were chosen by measurement (bench/tie_breaking.cpp,
-// papers/orderings.md).
+// defaults in order_mda_exact and order_meca_exact were chosen by measurement
+// (bench/tie_breaking.cpp, papers/orderings.md); the quotient-graph forms keep them. These two
+// play the exact game on the explicit graph.
 enum class TieBreak { lowest_index, highest_index, least_degree };
 std::vector<int> minimum_degree(const BlockPattern& pattern, bool weighted, TieBreak tie);
 std::vector<int> minimum_edge_creation(const BlockPattern& pattern, bool weighted, TieBreak tie);

@@ -192,7 +192,7 @@ std::vector<BlockPattern> small_patterns() {
 
 TEST(MinimumDegree, EveryPivotHasLeastDegreeThenHighestIndex) {
   for (const BlockPattern& p : small_patterns()) {
-    expect_greedy(p, order_mda(p), [](const DenseGraph& g, int v) {
+    expect_greedy(p, order_mda_exact(p), [](const DenseGraph& g, int v) {
       return std::make_pair(g.neighbors(v).size(), -v);
     });
   }
@@ -200,7 +200,7 @@ TEST(MinimumDegree, EveryPivotHasLeastDegreeThenHighestIndex) {
 
 TEST(MinimumDegree, WeightedCountsRows) {
   for (const BlockPattern& p : small_patterns()) {
-    expect_greedy(p, order_mda_w(p), [&](const DenseGraph& g, int v) {
+    expect_greedy(p, order_mda_w_exact(p), [&](const DenseGraph& g, int v) {
       int64_t rows = 0;
       for (int u : g.neighbors(v)) rows += p.block(u).size;
       return std::make_pair(rows, -v);
@@ -211,7 +211,7 @@ TEST(MinimumDegree, WeightedCountsRows) {
 TEST(MinimumEdgeCreation, EveryPivotCreatesFewestEdgesThenHighestIndex) {
   for (const BlockPattern& p : small_patterns()) {
     const std::vector<int> ones(p.num_blocks(), 1);
-    expect_greedy(p, order_meca(p), [&](const DenseGraph& g, int v) {
+    expect_greedy(p, order_meca_exact(p), [&](const DenseGraph& g, int v) {
       return std::make_pair(g.fill(v, ones), -v);
     });
   }
@@ -220,7 +220,7 @@ TEST(MinimumEdgeCreation, EveryPivotCreatesFewestEdgesThenHighestIndex) {
 TEST(MinimumEdgeCreation, WeightedCountsScalarEntriesThenLeastDegree) {
   for (const BlockPattern& p : small_patterns()) {
     const std::vector<int> sizes = p.block_sizes();
-    expect_greedy(p, order_meca_w(p), [&](const DenseGraph& g, int v) {
+    expect_greedy(p, order_meca_w_exact(p), [&](const DenseGraph& g, int v) {
       return std::make_tuple(g.fill(v, sizes), g.neighbors(v).size(), v);
     });
   }
@@ -233,7 +233,7 @@ TEST(Orderings, PerfectOnTreesWherePossible) {
   // a random tree does not, which keeps this test able to fail.
   for (const char* family : {"chain", "tree", "star"}) {
     const BlockPattern p = constraint_graph(make_family(family, 300));
-    for (const char* name : {"meca", "meca-w"}) {
+    for (const char* name : {"meca", "meca-w", "meca-exact", "meca-w-exact"}) {
       const Ordering o = compute_ordering(find_ordering(name), p, p.expand());
       EXPECT_EQ(o.elimination.fill_edges, 0) << family << " " << name;
     }
