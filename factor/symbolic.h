@@ -36,10 +36,10 @@ namespace ldlpgs {
 struct SymbolicOptions {
   // A maximal run of nested pivots becomes one supernode when it has at least this many rows;
   // 0 (or a huge value) keeps every pivot alone.
-  int supernode_min_rows = 16;
+  int supernode_min_rows = 32;
   // Supernodes of at least this many rows are eliminated with dense.h (BLAS), the rest with the
   // kernels of kernels.h at their width.
-  int blas_min_rows = 48;
+  int blas_min_rows = 32;
 };
 
 class Symbolic {
