@@ -79,6 +79,10 @@ Command add_bench_command(CLI::App& app) {
                   "Rows from which a run of nested pivots is one supernode (0: none)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--supernode-min-front", o->symbolic.supernode_min_front,
+                  "Rows of L's column (the supernode's and those below) from which it is one supernode")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--blas-min-rows", o->symbolic.blas_min_rows, "Rows from which a supernode is eliminated with BLAS (0: never)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);

@@ -95,7 +95,9 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
   for (int k = 0; k < np;) {
     int end = k + 1;
     while (end < np && nests(end - 1)) ++end;
-    if (options.supernode_min_rows > 0 && s.row_start_[end] - s.row_start_[k] >= options.supernode_min_rows) {
+    const int rows = s.row_start_[end] - s.row_start_[k];
+    if (options.supernode_min_rows > 0 && rows >= options.supernode_min_rows &&
+        rows + s.height_[end - 1] >= options.supernode_min_front) {
       s.sn_begin_.push_back(end);
     } else {
       for (int j = k + 1; j <= end; ++j) s.sn_begin_.push_back(j);

@@ -34,9 +34,13 @@ namespace ldlpgs {
 // How the symbolic phase groups pivots into supernodes, and which of them the numeric phase
 // eliminates with BLAS. The defaults come from measurements (papers/factor.md, "Supernodes").
 struct SymbolicOptions {
-  // A maximal run of nested pivots becomes one supernode when it has at least this many rows;
-  // 0 (or a huge value) keeps every pivot alone.
+  // A maximal run of nested pivots becomes one supernode when it has at least this many rows
+  // and its front (its rows and the rows of L below them) at least supernode_min_front; 0 (or a
+  // huge value) keeps every pivot alone. A front of under 128 rows is faster per block: heavy-22's
+  // 89-row dense H factors in 25 us per block and 34 us as one BLAS supernode, bcsstk02's 66 in
+  // 11 and 33 us; heavy-63's 260 in 468 against 386 us (papers/factor.md, "Supernodes").
   int supernode_min_rows = 32;
+  int supernode_min_front = 128;
   // Supernodes of at least this many rows are eliminated with dense.h (BLAS), the rest with the
   // kernels of kernels.h at their width.
   int blas_min_rows = 32;

@@ -132,14 +132,14 @@ def blas_table():
 if __name__ == "__main__":
     which = os.environ.get("TABLES", "verify,mechanisms,matrices,blas").split(",")
     if "verify" in which:
-        measured("Verification against CHOLMOD (ordering meca)", verify_table)
+        measured("Verification against CHOLMOD (ordering best, the default)", verify_table)
     if "mechanisms" in which:
         # heavy at 1265 constraints is a dense n = 5000 matrix: seconds per factorization for
         # every solver, minutes for the medians; `ldlpgs bench heavy:1265` times it alone.
-        measured("Speed on mechanisms (ordering meca; medians; factor + solve in microseconds)",
+        measured("Speed on mechanisms (ordering best, the default; medians; factor + solve in microseconds)",
                  lambda: bench_table([f"{f}:{m}" for m in SIZES for f in FAMILIES
                                       if not (f == "heavy" and m == SIZES[-1])]))
     if "matrices" in which:
-        measured("Speed on the test matrices (ordering meca, blocks auto)", lambda: bench_table(matrices()))
+        measured("Speed on the test matrices (ordering best, the default; blocks auto)", lambda: bench_table(matrices()))
     if "blas" in which:
-        measured("CHOLMOD supernodal: reference BLAS against the system's (ordering meca)", blas_table)
+        measured("CHOLMOD supernodal: reference BLAS against the system's (ordering best, the default)", blas_table)

@@ -43,7 +43,7 @@ void PrintTo(const Case& c, std::ostream* os) {
 
 SymbolicOptions symbolic_options(const Case& c) {
   if (c.supernodes == "none") return {.supernode_min_rows = 0};
-  if (c.supernodes == "blas") return {.supernode_min_rows = 1, .blas_min_rows = 1};
+  if (c.supernodes == "blas") return {.supernode_min_rows = 1, .supernode_min_front = 0, .blas_min_rows = 1};
   return {};
 }
 

@@ -102,7 +102,7 @@ void expect_consistent(const SymmetricCsc& a, const BlockPattern& blocks, const 
 }
 
 // Every pivot alone; the defaults; every run of nested pivots merged, however narrow.
-const SymbolicOptions kSupernodeChoices[] = {{.supernode_min_rows = 0}, {}, {.supernode_min_rows = 1}};
+const SymbolicOptions kSupernodeChoices[] = {{.supernode_min_rows = 0}, {}, {.supernode_min_rows = 1, .supernode_min_front = 0}};
 
 TEST(Symbolic, LayoutRsiAndLoadMapOnTestMatrices) {
   for (const auto& m : testing::test_matrices()) {
@@ -133,7 +133,7 @@ TEST(Symbolic, SupernodesAreTheMaximalNestedRunsWideEnough) {
     const BlockPattern blocks = BlockPattern::from_scalar(a, partition_uniform(a.n, block));
     std::vector<int> natural(blocks.num_blocks());
     for (int k = 0; k < blocks.num_blocks(); ++k) natural[k] = k;
-    return Symbolic::analyze(a, blocks, natural, {.supernode_min_rows = min_rows}).num_supernodes();
+    return Symbolic::analyze(a, blocks, natural, {.supernode_min_rows = min_rows, .supernode_min_front = 0}).num_supernodes();
   };
   SymmetricCsc dense, chain;
   dense.n = chain.n = 30;
