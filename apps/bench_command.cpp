@@ -23,6 +23,12 @@ namespace ldlpgs::cli {
 
 namespace {
 
+int mapped_supernodes(const Symbolic& s) {
+  int count = 0;
+  for (int t = 0; t < s.num_supernodes(); ++t) count += s.supernode_mapped(t);
+  return count;
+}
+
 struct Timing {
   std::string name;
   bool ok = false;
@@ -86,6 +92,10 @@ Command add_bench_command(CLI::App& app) {
   cmd->add_option("--blas-min-rows", o->symbolic.blas_min_rows, "Rows from which a supernode is eliminated with BLAS (0: never)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--rsi-max-per-entry", o->symbolic.rsi_max_per_entry,
+                  "RSI indices per entry of L above which a supernode scatters through a relative map (0: always, "
+                  "negative: never)")
+      ->capture_default_str();
   add_json_flag(cmd, &o->json);
   return [o] {
     const OrderingInfo& info = find_ordering(o->ordering);
@@ -115,7 +125,7 @@ Command add_bench_command(CLI::App& app) {
       nlohmann::json j = {{"matrix", p.name}, {"n", p.a.n}, {"blocks", p.blocks.num_blocks()},
                           {"ordering", ordering.name}, {"chosen", ordering.chosen}, {"flops", flops}, {"gflops", number_or_null(gflops)},
                           {"symbolic_bytes", ours->symbolic().memory_bytes()},
-                          {"rsi_entries", ours->symbolic().rsi_size()}, {"supernodes", ours->symbolic().num_supernodes()},
+                          {"rsi_entries", ours->symbolic().rsi_size()}, {"supernodes", ours->symbolic().num_supernodes()}, {"mapped_supernodes", mapped_supernodes(ours->symbolic())},
                           {"blas", blas}};
       // ours unprefixed, every other solver's fields prefixed with its name (null: not run)
       std::vector<std::string_view> names = {mine.name};

@@ -161,6 +161,42 @@ inline const int32_t* scatter_runs(double* __restrict values, const double* __re
   return runs;
 }
 
+// The same two reductions for a mapped supernode (Symbolic::supernode_mapped): no runs, but for
+// every row r of E (permuted row rows[r]) the offset map[rows[r]] of that row in the target
+// supernode, at whose column `column` block b's nb columns start. Rows [first, first + nb) are
+// b's own, on the target's diagonal (lower triangle); the rest, to h, land below.
+template <int N, int DB>
+inline void reduce_mapped(double* __restrict values, const double* __restrict e, const double* __restrict lb,
+                          const int* __restrict rows, const int32_t* __restrict map, int first, int h, int column,
+                          int n, int db) {
+  const int m = N ? N : n;
+  const int nb = DB ? DB : db;
+  const double* er = e + int64_t{first} * m;
+  int r = first;
+  for (int i = 0; i < nb; ++i, ++r, er += m) {
+    double* __restrict t = values + map[rows[r]] + column;
+    for (int c = 0; c <= i; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+  }
+  for (; r < h; ++r, er += m) {
+    double* __restrict t = values + map[rows[r]] + column;
+    for (int c = 0; c < nb; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+  }
+}
+// c points at C's column of b's first row, as for scatter_runs.
+inline void scatter_mapped(double* __restrict values, const double* __restrict c, const int* __restrict rows,
+                           const int32_t* __restrict map, int first, int h, int column, int ldc, int nb) {
+  const double* cr = c + int64_t{first} * ldc;
+  int r = first;
+  for (int i = 0; i < nb; ++i, ++r, cr += ldc) {
+    double* __restrict t = values + map[rows[r]] + column;
+    for (int j = 0; j <= i; ++j) t[j] -= cr[j];
+  }
+  for (; r < h; ++r, cr += ldc) {
+    double* __restrict t = values + map[rows[r]] + column;
+    for (int j = 0; j < nb; ++j) t[j] -= cr[j];
+  }
+}
+
 // Forward substitution through pivot k's column: y[rows[r]] -= L_r . y_k for each row r of L.
 template <int N>
 inline void forward_column(double* y, const double* yk, const double* l, const int* rows, int h, int n) {

@@ -50,7 +50,21 @@ Numeric::Numeric(const Symbolic& symbolic)
       floor_(symbolic.num_rows()),
       diag_(symbolic.num_rows()),
       work_(symbolic.num_rows()),
-      inv_d_(symbolic.num_rows()) {}
+      inv_d_(symbolic.num_rows()),
+      map_(symbolic.any_mapped() ? symbolic.num_rows() : 0) {}
+
+namespace {
+// The relative map of target supernode u: for each of its rows (the node block's, then E's),
+// the value offset of the row's first column. O(rows of u); the rows a mapped descendant reads
+// are all among them (the elimination game's guarantee, as for the RSI).
+void map_rows(const Symbolic& s, int u, int32_t* map) {
+  const int d = s.supernode_size(u), h = s.supernode_height(u), r0 = s.supernode_row_start(u);
+  const int64_t node = s.node_offset(u), column = s.column_offset(u);
+  const int* rows = s.column_rows(u);
+  for (int l = 0; l < d; ++l) map[r0 + l] = static_cast<int32_t>(node + int64_t{l} * d);
+  for (int r = 0; r < h; ++r) map[rows[r]] = static_cast<int32_t>(column + int64_t{r} * d);
+}
+}  // namespace
 
 bool Numeric::load(const SymmetricCsc& a, const FactorOptions& options) {
   const Symbolic& s = *symbolic_;
@@ -205,7 +219,17 @@ FactorInfo Numeric::eliminate() {
         dense::begin_l(e, w, node, inv_d, h, d);
         double* c = w + int64_t{h} * d;
         dense::lower_product(w, e, h, d, c);
-        for (int b = 0; b < m; ++b) rsi = kernels::scatter_runs(v, c + rows[b], rsi, h, sizes[b]);
+        if (s.supernode_mapped(t)) {
+          const std::span<const int> col = s.supernode_edges(t);
+          const int* erows = s.column_rows(t);
+          for (int b = 0, u = -1; b < m; ++b) {
+            if (s.supernode_of(col[b]) != u) map_rows(s, u = s.supernode_of(col[b]), map_.data());
+            kernels::scatter_mapped(v, c + rows[b], erows, map_.data(), rows[b], h,
+                                    s.row_start(col[b]) - s.supernode_row_start(u), h, sizes[b]);
+          }
+        } else {
+          for (int b = 0; b < m; ++b) rsi = kernels::scatter_runs(v, c + rows[b], rsi, h, sizes[b]);
+        }
         dense::end_l(e, node, h, d);
       }
     } else {
@@ -215,11 +239,25 @@ FactorInfo Numeric::eliminate() {
         if (bad >= 0) return;
         // S -= W Y^T with W in the scratch, Y over E, then L over Y (kernels::begin_l).
         kernels::begin_l<N>(e, w, node, inv_d, h, d);
-        for (int b = 0; b < m; ++b) {
-          kernels::dispatch_size(sizes[b], [&](auto size_b) {
-            constexpr int DB = decltype(size_b)::value;
-            rsi = kernels::reduce_runs<N, DB>(v, w, e + int64_t{rows[b]} * d, rsi, d, sizes[b]);
-          });
+        if (s.supernode_mapped(t)) {
+          const std::span<const int> col = s.supernode_edges(t);
+          const int* erows = s.column_rows(t);
+          for (int b = 0, u = -1; b < m; ++b) {
+            if (s.supernode_of(col[b]) != u) map_rows(s, u = s.supernode_of(col[b]), map_.data());
+            const int column = s.row_start(col[b]) - s.supernode_row_start(u);
+            kernels::dispatch_size(sizes[b], [&](auto size_b) {
+              constexpr int DB = decltype(size_b)::value;
+              kernels::reduce_mapped<N, DB>(v, w, e + int64_t{rows[b]} * d, erows, map_.data(), rows[b], h, column, d,
+                                            sizes[b]);
+            });
+          }
+        } else {
+          for (int b = 0; b < m; ++b) {
+            kernels::dispatch_size(sizes[b], [&](auto size_b) {
+              constexpr int DB = decltype(size_b)::value;
+              rsi = kernels::reduce_runs<N, DB>(v, w, e + int64_t{rows[b]} * d, rsi, d, sizes[b]);
+            });
+          }
         }
         kernels::end_l<N>(e, node, h, d);
       });

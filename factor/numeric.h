@@ -94,6 +94,7 @@ class Numeric {
   std::vector<double> diag_;     // |H_rr| regularized, per permuted row (size n)
   std::vector<double> work_;     // permuted right-hand side (size n)
   std::vector<double> inv_d_;    // 1 / D per permuted row (size n)
+  std::vector<int32_t> map_;     // a mapped supernode's target: value offset of each of its rows (size n if any is mapped)
   int scale_ = 0;                // the factored matrix is 2^-scale_ H (prepare(): H out of range)
   FactorInfo info_;
   bool factored_ = false;        // a factorization ran (info_ is its outcome)

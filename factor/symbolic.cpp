@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cassert>
 #include <limits>
+#include <numeric>
 #include <string>
 
 #include "ldlpgs/factor/dense.h"
@@ -144,6 +145,7 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
   // of them (papers/factor.md). Stored per supernode, per b: the number of runs and the stride,
   // then (target, first row in E, rows) each.
   s.rsi_ptr_.assign(ns + 1, 0);
+  s.sn_mapped_.assign(ns, 0);
   for (int t = 0; t < ns; ++t) {
     const std::span<const int> col = s.supernode_edges(t);
     const int* rows_in_e = s.edge_rows(t);
@@ -170,6 +172,33 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
       unmark_column(s.edge_ptr_, s.edge_pivot_, last_of_u, mark);
     }
     s.rsi_ptr_[t + 1] = static_cast<int64_t>(s.rsi_.size());
+  }
+  // Over budget (SymbolicOptions::rsi_max_per_entry), the supernodes with the most runs scatter
+  // through relative maps instead, largest first, until the runs left fit: the fewest mapped
+  // supernodes for the memory, since a mapped one pays O(rows of each target) per factorization
+  // (on bcsstk13 the maps were 12% of the time: papers/factor.md, "Relative maps").
+  const double budget = options.rsi_max_per_entry * static_cast<double>(s.nnz_l_);
+  if (options.rsi_max_per_entry >= 0 && static_cast<double>(s.rsi_.size()) > budget) {
+    std::vector<int> by_size(ns);  // supernodes, most runs first (size ns)
+    std::iota(by_size.begin(), by_size.end(), 0);
+    auto entries = [&](int t) { return s.rsi_ptr_[t + 1] - s.rsi_ptr_[t]; };
+    std::stable_sort(by_size.begin(), by_size.end(), [&](int a, int b) { return entries(a) > entries(b); });
+    double left = static_cast<double>(s.rsi_.size());
+    for (int t : by_size) {
+      if (left <= budget || entries(t) == 0) break;
+      left -= static_cast<double>(entries(t));
+      s.sn_mapped_[t] = 1;
+      s.any_mapped_ = true;
+    }
+    std::vector<int32_t> kept;  // the runs of the supernodes not mapped (size left)
+    kept.reserve(static_cast<size_t>(left));
+    std::vector<int64_t> ptr(ns + 1, 0);  // (size ns+1)
+    for (int t = 0; t < ns; ++t) {
+      if (!s.sn_mapped_[t]) kept.insert(kept.end(), s.rsi_.begin() + s.rsi_ptr_[t], s.rsi_.begin() + s.rsi_ptr_[t + 1]);
+      ptr[t + 1] = static_cast<int64_t>(kept.size());
+    }
+    s.rsi_ = std::move(kept);
+    s.rsi_ptr_ = std::move(ptr);
   }
 
   // Load map: entry (r, c) of the lower triangle, r in block br, c in block bc, lands in the
@@ -244,7 +273,7 @@ void Symbolic::check_pattern(const SymmetricCsc& a, const char* what) const {
 
 int64_t Symbolic::memory_bytes() const {
   auto bytes = [](const auto& v) { return static_cast<int64_t>(v.size() * sizeof(v[0])); };
-  return bytes(block_) + bytes(size_) + bytes(row_start_) + bytes(height_) + bytes(sn_begin_) + bytes(sn_of_pivot_) + bytes(sn_blas_) + bytes(sn_node_offset_) +
+  return bytes(block_) + bytes(size_) + bytes(row_start_) + bytes(height_) + bytes(sn_begin_) + bytes(sn_of_pivot_) + bytes(sn_blas_) + bytes(sn_mapped_) + bytes(sn_node_offset_) +
          bytes(edge_ptr_) + bytes(edge_pivot_) + bytes(edge_fill_) + bytes(edge_row_) + bytes(edge_size_) + bytes(l_rows_ptr_) + bytes(l_rows_) +
          bytes(rsi_ptr_) + bytes(rsi_) + bytes(load_map_) + bytes(perm_) + bytes(pattern_col_ptr_) +
          bytes(pattern_row_idx_);

@@ -44,6 +44,14 @@ struct SymbolicOptions {
   // Supernodes of at least this many rows are eliminated with dense.h (BLAS), the rest with the
   // kernels of kernels.h at their width.
   int blas_min_rows = 32;
+  // The RSI's budget: at most this many indices per entry of L (nnz_l). Over it, the supernodes
+  // with the most runs scatter through a map of each target supernode's rows instead, built by
+  // the numeric phase in O(rows of the target) (CHOLMOD's relative map, Map in
+  // cholmod_super_numeric): on bcsstk13 the runs of its narrow columns with many edge blocks were
+  // 2.3M indices for 292k entries of L. The mechanisms' runs fit (chains, trees, grids: 0.2-0.5
+  // per entry), so they keep them and their speed. 0: every supernode mapped; negative: none
+  // (papers/factor.md, "Relative maps", measures both).
+  double rsi_max_per_entry = 1.0;
 };
 
 class Symbolic {
@@ -101,6 +109,10 @@ class Symbolic {
   int supernode_size(int s) const { return row_start_[sn_begin_[s + 1]] - row_start_[sn_begin_[s]]; }  // rows d
   int supernode_height(int s) const { return height_[sn_begin_[s + 1] - 1]; }                         // rows h of E
   bool supernode_blas(int s) const { return sn_blas_[s] != 0; }  // eliminated with dense.h
+  // Scatters through a relative map of each target's rows instead of RSI runs (its rsi() entry
+  // is empty; SymbolicOptions::rsi_max_per_entry).
+  bool supernode_mapped(int s) const { return sn_mapped_[s] != 0; }
+  bool any_mapped() const { return any_mapped_; }
   int64_t node_offset(int s) const { return sn_node_offset_[s]; }
   int64_t column_offset(int s) const { return sn_node_offset_[s] + int64_t{supernode_size(s)} * supernode_size(s); }
   std::span<const int> supernode_edges(int s) const { return edges(sn_begin_[s + 1] - 1); }
@@ -109,7 +121,7 @@ class Symbolic {
   // Of the supernode's edge blocks: first row in E and size (each of length supernode_edges(s).size()).
   const int* edge_rows(int s) const { return edge_row_.data() + edge_ptr_[sn_begin_[s + 1] - 1]; }
   const int* edge_sizes(int s) const { return edge_size_.data() + edge_ptr_[sn_begin_[s + 1] - 1]; }
-  // The reduction-scattering runs of supernode s, for each edge block b in order: the number of
+  // The reduction-scattering runs of supernode s (none when it is mapped), for each edge block b in order: the number of
   // runs and the row stride of the target supernode (its size), then per run (value offset of its
   // first target row, its first row in E, rows). The run's rows of E times L_b^T land at
   // consecutive target rows of that stride, the first run's first size(b) rows on the target's
@@ -141,6 +153,8 @@ class Symbolic {
   std::vector<int> sn_begin_;         // first pivot of each supernode (size num_supernodes+1)
   std::vector<int> sn_of_pivot_;      // supernode of each pivot (size num_pivots)
   std::vector<uint8_t> sn_blas_;      // 1: eliminated with dense.h (size num_supernodes)
+  std::vector<uint8_t> sn_mapped_;    // 1: scattered through a relative map (size num_supernodes)
+  bool any_mapped_ = false;
   std::vector<int64_t> sn_node_offset_;  // start of each node block; the last entry is the values' size (size num_supernodes+1)
   std::vector<int64_t> l_rows_ptr_;   // (size num_supernodes+1)
   std::vector<int> l_rows_;           // permuted scalar rows of every supernode's E (size sum h_s)

@@ -33,7 +33,9 @@ struct Case {
   std::string ordering;
   // The supernodes (SymbolicOptions): "default"; "none", every pivot alone; "blas", every run of
   // nested pivots merged and eliminated with dense.h however narrow, so the BLAS path meets
-  // every family and partition and not only the few wide fronts the defaults give it.
+  // every family and partition and not only the few wide fronts the defaults give it; both with
+  // RSI runs only. "mapped" and "blas-mapped": the same two with every supernode scattering
+  // through relative maps (SymbolicOptions::rsi_max_per_entry = 0).
   std::string supernodes = "default";
 };
 
@@ -42,8 +44,10 @@ void PrintTo(const Case& c, std::ostream* os) {
 }
 
 SymbolicOptions symbolic_options(const Case& c) {
-  if (c.supernodes == "none") return {.supernode_min_rows = 0};
-  if (c.supernodes == "blas") return {.supernode_min_rows = 1, .supernode_min_front = 0, .blas_min_rows = 1};
+  if (c.supernodes == "none") return {.supernode_min_rows = 0, .rsi_max_per_entry = -1};
+  if (c.supernodes == "blas") return {.supernode_min_rows = 1, .supernode_min_front = 0, .blas_min_rows = 1, .rsi_max_per_entry = -1};
+  if (c.supernodes == "mapped") return {.supernode_min_rows = 0, .rsi_max_per_entry = 0};
+  if (c.supernodes == "blas-mapped") return {.supernode_min_rows = 1, .supernode_min_front = 0, .blas_min_rows = 1, .rsi_max_per_entry = 0};
   return {};
 }
 
@@ -120,7 +124,7 @@ std::vector<Case> cases() {
         if (name == "bcsstk13.mtx" && o == "natural") continue;  // dense fill: minutes, nothing new
         out.push_back({name, partition, o});
         if (o == "meca-w" || o == "amd-scalar")
-          for (const char* supernodes : {"none", "blas"}) out.push_back({name, partition, o, supernodes});
+          for (const char* supernodes : {"none", "blas", "mapped", "blas-mapped"}) out.push_back({name, partition, o, supernodes});
       }
   }
   for (std::string_view family : family_names())
@@ -130,7 +134,7 @@ std::vector<Case> cases() {
           const std::string name = std::string(family) + "-" + std::to_string(size);
           out.push_back({name, partition, o});
           if (o == "meca-w" || o == "amd-scalar")
-            for (const char* supernodes : {"none", "blas"}) out.push_back({name, partition, o, supernodes});
+            for (const char* supernodes : {"none", "blas", "mapped", "blas-mapped"}) out.push_back({name, partition, o, supernodes});
         }
   return out;
 }
