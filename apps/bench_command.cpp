@@ -99,7 +99,7 @@ Command add_bench_command(CLI::App& app) {
   add_json_flag(cmd, &o->json);
   return [o] {
     const OrderingInfo& info = find_ordering(o->ordering);
-    const Problem p = load_problem(o->problem.spec, o->problem.blocks, o->problem.max_block);
+    const Problem p = load_problem(o->problem.spec, o->problem.blocks, o->problem.max_block, o->problem.split_blocks);
     const Ordering ordering = compute_ordering(info, p.blocks, p.a);
     auto ours = std::make_unique<LdlpgsSolver>(p.a, p.blocks, ordering, o->symbolic);
     const double flops = ours->symbolic().flops();

@@ -45,7 +45,16 @@ Problem scene_problem(const Mechanism& m) {
   return p;
 }
 
-Problem load_problem(const std::string& spec, const std::string& blocks_spec, int max_block) {
+namespace {
+
+Problem split_blocks(Problem p) {
+  p.a = without_zeros(p.a);
+  p.blocks = BlockPattern::from_scalar(p.a, partition_refine(p.a, p.blocks.block_sizes()));
+  p.scalar_graph = graph_of(p.a);
+  return p;
+}
+
+Problem load_unsplit(const std::string& spec, const std::string& blocks_spec, int max_block) {
   const size_t colon = spec.rfind(':');
   if (colon == std::string::npos || std::filesystem::exists(spec)) return load_matrix(spec, blocks_spec, max_block);
   const std::string family = spec.substr(0, colon), count = spec.substr(colon + 1);
@@ -58,6 +67,13 @@ Problem load_problem(const std::string& spec, const std::string& blocks_spec, in
     throw InputError(spec + ": expected FAMILY:CONSTRAINTS with a positive count, got '" + count + "'");
   }
   return make_mechanism(family, m);  // throws InputError naming an unknown family
+}
+
+}  // namespace
+
+Problem load_problem(const std::string& spec, const std::string& blocks_spec, int max_block, bool split) {
+  Problem p = load_unsplit(spec, blocks_spec, max_block);
+  return split ? split_blocks(std::move(p)) : p;
 }
 
 std::vector<Row> compare(const Problem& p, const std::vector<std::string>& names, bool with_cholmod,

@@ -32,7 +32,10 @@ Problem make_mechanism(const std::string& family, int num_constraints);
 // block per constraint (what `ldlpgs export --no-shatter` writes).
 Problem scene_problem(const Mechanism& m);
 // A Matrix Market file, or FAMILY:CONSTRAINTS (e.g. chain:100) for a generated mechanism.
-Problem load_problem(const std::string& spec, const std::string& blocks_spec, int max_block);
+// split_blocks: the matrix without its exact zeros (without_zeros) and its blocks refined by
+// partition_refine, so orderings, CHOLMOD and the factor all see the nonzero values' pattern.
+Problem load_problem(const std::string& spec, const std::string& blocks_spec, int max_block,
+                     bool split_blocks = false);
 
 struct Row {
   OrderingSummary summary;

@@ -16,6 +16,9 @@ void add_problem_options(CLI::App* cmd, ProblemArgs* a) {
   cmd->add_option("--blocks", a->blocks, "Input block partition: auto (identical consecutive rows), N (uniform), or "
                                          "a file with one block size per line")->capture_default_str();
   cmd->add_option("--max-block", a->max_block, "Largest block --blocks auto forms")->capture_default_str();
+  cmd->add_flag("--split-blocks", a->split_blocks,
+                "Drop the matrix's exact zeros and split each block (of --blocks, or a generated mechanism's "
+                "constraints) into runs of rows with identical patterns");
 }
 
 void add_ordering_option(CLI::App* cmd, std::string* ordering, const std::string& help, bool list) {

@@ -17,6 +17,7 @@ namespace ldlpgs::cli {
 struct ProblemArgs {
   std::string spec, blocks = "auto";
   int max_block = 6;
+  bool split_blocks = false;  // --split-blocks: partition_refine, on the matrix without its zeros
 };
 void add_problem_options(CLI::App* cmd, ProblemArgs* a);
 

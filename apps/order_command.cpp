@@ -35,7 +35,7 @@ Command add_order_command(CLI::App& app) {
     const std::vector<std::string> names = parse_ordering_list(o->orderings);
     if (!(o->certify_time_limit_s >= 0) || !std::isfinite(o->certify_time_limit_s))
       throw InputError("--certify-time-limit-s must be finite and >= 0");
-    const Problem p = load_problem(o->problem.spec, o->problem.blocks, o->problem.max_block);
+    const Problem p = load_problem(o->problem.spec, o->problem.blocks, o->problem.max_block, o->problem.split_blocks);
     // a large matrix takes seconds per ordering (METIS, the explicit elimination graph)
     auto before = [&](const std::string& name) {
       if (p.a.n >= kProgressDimension) progress("order", p.name + ": " + name);

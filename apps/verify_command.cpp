@@ -78,7 +78,7 @@ Command add_verify_command(CLI::App& app) {
   add_json_flag(cmd, &o->json);
   return [o] {
     const OrderingInfo& info = find_ordering(o->ordering);
-    const Problem p = load_problem(o->problem.spec, o->problem.blocks, o->problem.max_block);
+    const Problem p = load_problem(o->problem.spec, o->problem.blocks, o->problem.max_block, o->problem.split_blocks);
     const Ordering ordering = compute_ordering(info, p.blocks, p.a);
     const Verification v = verify_against_cholmod(p.a, p.blocks, ordering, o->tolerance);
     if (o->json) print_json(json_header("verify", to_json(p, v)));

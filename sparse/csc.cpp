@@ -125,6 +125,21 @@ Graph graph_of(const SymmetricCsc& a) {
   return graph_from_edges(a.n, edges);
 }
 
+SymmetricCsc without_zeros(const SymmetricCsc& a) {
+  SymmetricCsc b;
+  b.n = a.n;
+  b.col_ptr.assign(a.n + 1, 0);
+  for (int j = 0; j < a.n; ++j) {
+    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) {
+      if (a.row_idx[p] != j && a.values[p] == 0.0) continue;
+      b.row_idx.push_back(a.row_idx[p]);
+      b.values.push_back(a.values[p]);
+    }
+    b.col_ptr[j + 1] = static_cast<int>(b.row_idx.size());
+  }
+  return b;
+}
+
 void symmetric_multiply(const SymmetricCsc& a, std::span<const double> x, std::span<double> y) {
   if (std::ssize(x) != a.n || std::ssize(y) != a.n)
     throw ArgumentError("symmetric_multiply: x and y have " + std::to_string(x.size()) + " and " +

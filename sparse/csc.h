@@ -56,6 +56,11 @@ Graph graph_from_edges(int n, std::span<const std::pair<int, int>> edges);
 // The graph of a symmetric matrix: an edge for every off-diagonal entry (explicit zeros count).
 Graph graph_of(const SymmetricCsc& a);
 
+// a without its stored off-diagonal entries whose value is exactly 0 (the diagonal is kept, zero
+// or not): the pattern of the values, not of what was stored. Exports of H store every coupling
+// block dense, and anchors at body centres or aligned axes leave half of those entries 0.
+SymmetricCsc without_zeros(const SymmetricCsc& a);
+
 // Stored entries of the full symmetric A whose lower triangle a stores: 2 off-diagonal + diagonal
 // (not 2 nnz - n, which assumes every diagonal entry is stored: -5 for an empty 5 x 5).
 int64_t full_nnz(const SymmetricCsc& a);

@@ -75,6 +75,31 @@ std::vector<int> partition_auto(const SymmetricCsc& a, int max_size) {
   return blocks;
 }
 
+std::vector<int> partition_refine(const SymmetricCsc& a, std::span<const int> blocks) {
+  int64_t sum = 0;
+  for (int size : blocks) {
+    if (size < 1) throw ArgumentError("partition_refine: block size " + std::to_string(size) + " is not positive");
+    sum += size;
+  }
+  if (sum != a.n) {
+    throw ArgumentError("partition_refine: block sizes sum to " + std::to_string(sum) + ", the matrix has " +
+                        std::to_string(a.n) + " rows");
+  }
+  const Graph g = graph_of(without_zeros(a));
+  std::vector<int> refined;
+  int first = 0;  // first row of the current given block
+  for (int size : blocks) {
+    int start = first;  // first row of the current run of identical rows
+    for (int r = first; r < first + size; ++r) {
+      if (r + 1 < first + size && same_pattern(g, r)) continue;
+      refined.push_back(r + 1 - start);
+      start = r + 1;
+    }
+    first += size;
+  }
+  return refined;
+}
+
 std::vector<int> read_partition(const std::string& path, int n) {
   // Every message quotes the file name and the line through printable(): one bounded line of
   // printable characters whatever the file holds (binary, a NUL, a megabyte-long line).

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <numeric>
+#include <random>
 #include <set>
 #include <string>
 #include <utility>
@@ -195,6 +196,139 @@ TEST(PartitionAuto, KnownResultsOnCollectionMatrices) {
   // (checked separately with a script) and auto finds only single rows.
   const SymmetricCsc k01 = read_matrix_market(std::string(LDLPGS_MATRICES) + "/bcsstk01.mtx");
   EXPECT_EQ(partition_auto(k01), Sizes(48, 1));
+}
+
+// --- partition_refine against a brute-force definition on random block matrices -------------
+
+// Row r's column set counting only nonzero values (diagonal always included), from the stored
+// lower triangle with no library helper in between.
+std::vector<std::set<int>> nonzero_row_sets(const SymmetricCsc& a) {
+  std::vector<std::set<int>> s(a.n);
+  for (int j = 0; j < a.n; ++j) {
+    s[j].insert(j);
+    for (int p = a.col_ptr[j]; p < a.col_ptr[j + 1]; ++p) {
+      if (a.values[p] == 0.0) continue;
+      s[a.row_idx[p]].insert(j);
+      s[j].insert(a.row_idx[p]);
+    }
+  }
+  return s;
+}
+
+// The definition: every refined block lies inside one given block, its rows have identical sets,
+// and two neighbouring refined blocks inside one given block could not be merged (their facing
+// rows differ). Returns the first violation, empty if none.
+std::string refine_violation(const std::vector<std::set<int>>& sets, const Sizes& given, const Sizes& refined) {
+  const int n = static_cast<int>(sets.size());
+  const int sum = std::accumulate(refined.begin(), refined.end(), 0);
+  if (sum != n) return "sizes sum to " + std::to_string(sum) + ", not " + std::to_string(n);
+  std::set<int> given_starts, refined_starts;
+  for (int b = 0, start = 0; b < static_cast<int>(given.size()); start += given[b++]) given_starts.insert(start);
+  for (int b = 0, start = 0; b < static_cast<int>(refined.size()); start += refined[b++]) {
+    if (refined[b] < 1) return "block " + std::to_string(b) + " is empty";
+    refined_starts.insert(start);
+  }
+  for (int start : given_starts) {
+    if (!refined_starts.count(start)) return "given block at row " + std::to_string(start) + " is merged into another";
+  }
+  for (int r = 1; r < n; ++r) {
+    const bool cut = refined_starts.count(r) > 0;
+    if (!cut && sets[r - 1] != sets[r]) return "rows " + std::to_string(r - 1) + " and " + std::to_string(r) + " differ";
+    if (cut && !given_starts.count(r) && sets[r - 1] == sets[r]) return "could merge at row " + std::to_string(r);
+  }
+  return {};
+}
+
+// A random symmetric block matrix: blocks of 1..6 rows, each pair of blocks coupled with
+// probability 0.3, every coupled or diagonal block stored dense, and zeros planted as a
+// mechanism's exports have them: whole rows of a coupling block (a row that does not touch the
+// shared body), and scattered single entries.
+struct BlockMatrix {
+  SymmetricCsc a;
+  Sizes blocks;
+};
+BlockMatrix random_block_matrix(uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  BlockMatrix m;
+  int n = 0;
+  std::vector<int> start;
+  const int num_blocks = 2 + static_cast<int>(rng() % 12);
+  for (int b = 0; b < num_blocks; ++b) {
+    m.blocks.push_back(1 + static_cast<int>(rng() % 6));
+    start.push_back(n);
+    n += m.blocks.back();
+  }
+  std::vector<Triplet> t;
+  for (int bj = 0; bj < num_blocks; ++bj) {
+    for (int bi = bj; bi < num_blocks; ++bi) {
+      if (bi != bj && u(rng) > 0.3) continue;
+      std::vector<uint8_t> zero_row(m.blocks[bi]);  // rows of bi planted all-zero in this block
+      for (auto& z : zero_row) z = bi != bj && u(rng) < 0.4;
+      for (int j = start[bj]; j < start[bj] + m.blocks[bj]; ++j) {
+        for (int i = std::max(j, start[bi]); i < start[bi] + m.blocks[bi]; ++i) {
+          const bool zero = i != j && (zero_row[i - start[bi]] || u(rng) < 0.1);
+          t.push_back({i, j, zero ? 0.0 : (i == j ? 10.0 : -1.0)});
+        }
+      }
+    }
+  }
+  m.a = csc_from_triplets(n, t);
+  return m;
+}
+
+TEST(PartitionRefine, HandBuiltPlantedZeros) {
+  // Blocks {3, 2}: rows 0-2 all coupled, rows 3-4 coupled; row 0 alone couples to row 3 (the
+  // entries (3,1), (3,2), (4,*) of the coupling block are stored zeros).
+  const std::vector<Triplet> t = {{0, 0, 4.0}, {1, 0, 1.0}, {2, 0, 1.0}, {1, 1, 4.0}, {2, 1, 1.0}, {2, 2, 4.0}, {3, 0, 1.0},
+          {3, 1, 0.0}, {3, 2, 0.0}, {4, 0, 0.0}, {4, 1, 0.0}, {4, 2, 0.0}, {3, 3, 4.0}, {4, 3, 1.0}, {4, 4, 4.0}};
+  const SymmetricCsc a = csc_from_triplets(5, t);
+  EXPECT_EQ(partition_refine(a, Sizes{3, 2}), (Sizes{1, 2, 1, 1}));
+  // Never merged across the given blocks, even where rows match (one block per row stays so).
+  EXPECT_EQ(partition_refine(a, Sizes{1, 1, 1, 1, 1}), (Sizes{1, 1, 1, 1, 1}));
+}
+
+TEST(PartitionRefine, MatchesBruteForceOnRandomBlockMatrices) {
+  int split = 0;
+  for (uint32_t seed = 1; seed <= 300; ++seed) {
+    const BlockMatrix m = random_block_matrix(seed);
+    const Sizes refined = partition_refine(m.a, m.blocks);
+    EXPECT_EQ(refine_violation(nonzero_row_sets(m.a), m.blocks, refined), "") << "seed " << seed;
+    split += refined.size() > m.blocks.size();
+  }
+  EXPECT_GT(split, 200);  // the planted zeros split blocks in most matrices
+}
+
+TEST(PartitionRefine, BruteForceCheckCanFail) {
+  // The checker must reject wrong answers: a merged pair, a needless cut, a cut across blocks.
+  const BlockMatrix m = random_block_matrix(7);
+  const auto sets = nonzero_row_sets(m.a);
+  const Sizes right = partition_refine(m.a, m.blocks);
+  ASSERT_EQ(refine_violation(sets, m.blocks, right), "");
+  ASSERT_GT(right.size(), m.blocks.size());
+  int tried = 0;
+  for (size_t b = 0; b + 1 < right.size(); ++b) {
+    Sizes merged = right;
+    merged[b] += merged[b + 1];
+    merged.erase(merged.begin() + static_cast<std::ptrdiff_t>(b) + 1);
+    EXPECT_NE(refine_violation(sets, m.blocks, merged), "") << "merged " << b;
+    ++tried;
+  }
+  for (size_t b = 0; b < right.size(); ++b) {
+    if (right[b] < 2) continue;
+    Sizes cut = right;
+    cut[b] -= 1;
+    cut.insert(cut.begin() + static_cast<std::ptrdiff_t>(b) + 1, 1);
+    EXPECT_NE(refine_violation(sets, m.blocks, cut).find("could merge"), std::string::npos) << "cut " << b;
+    ++tried;
+  }
+  EXPECT_GT(tried, 3);
+}
+
+TEST(PartitionRefine, SizesNotSummingToTheMatrixAreRefused) {
+  const SymmetricCsc a = matrix(4, {{0, 1}}, all_rows(4));
+  EXPECT_THROW(partition_refine(a, Sizes{2, 1}), ArgumentError);
+  EXPECT_THROW(partition_refine(a, Sizes{2, 0, 2}), ArgumentError);
 }
 
 // --- read_partition --------------------------------------------------------------------------
