@@ -53,20 +53,22 @@ SymmetricCsc csc_from_triplets(int n, std::span<const Triplet> entries) {
   // cs_compress/cs_transpose): each column's entries come out in row order and duplicates in
   // input order, in O(n + entries) with no comparison sort. The comparison sort of each column it
   // replaces was 11% of `ldlpgs spy` on the 1000-arm star, whose H has 4.5M entries (issue 15).
-  // by_row[] is the permutation of the entries by row (size entries).
-  std::vector<int> count(static_cast<size_t>(n) + 1, 0);  // (size_t: n may be INT_MAX, issue 14)
+  // by_row[] is the permutation of the entries by row (size entries); row_ptr and count are the
+  // row and column starts (size n + 1; size_t: n may be INT_MAX, issue 14).
+  std::vector<int> row_ptr(static_cast<size_t>(n) + 1, 0), count(static_cast<size_t>(n) + 1, 0);
   for (const Triplet& t : entries) {
     if (t.row < 0 || t.row >= n || t.col < 0 || t.col >= n)
       throw ArgumentError("triplet (" + std::to_string(t.row) + ", " + std::to_string(t.col) + ") outside 0.." +
                           std::to_string(n - 1));
-    ++count[std::max(t.row, t.col) + 1];
+    ++row_ptr[std::max(t.row, t.col) + 1];
+    ++count[std::min(t.row, t.col) + 1];
   }
-  for (int j = 0; j < n; ++j) count[j + 1] += count[j];
+  for (int j = 0; j < n; ++j) {
+    row_ptr[j + 1] += row_ptr[j];
+    count[j + 1] += count[j];
+  }
   std::vector<int> by_row(entries.size());
-  for (size_t p = 0; p < entries.size(); ++p) by_row[count[std::max(entries[p].row, entries[p].col)]++] = static_cast<int>(p);
-  std::fill(count.begin(), count.end(), 0);
-  for (const Triplet& t : entries) ++count[std::min(t.row, t.col) + 1];
-  for (int j = 0; j < n; ++j) count[j + 1] += count[j];
+  for (size_t p = 0; p < entries.size(); ++p) by_row[row_ptr[std::max(entries[p].row, entries[p].col)]++] = static_cast<int>(p);
   std::vector<std::pair<int, double>> slots(entries.size());
   std::vector<int> next(count.begin(), count.end() - 1);
   for (const int p : by_row) {
@@ -107,16 +109,13 @@ Graph graph_from_edges(int n, std::span<const std::pair<int, int>> edges) {
   // 1000-arm star, 4.5M edges): the arcs s -> w are bucketed by w (bucket w holds the s), then
   // the buckets are walked in ascending w and w appended to each s's list. Duplicates end up
   // adjacent and are dropped while compacting.
-  std::vector<int> by_target(g.ptr[n]);  // (size 2 edges)
-  {
-    std::vector<int> next(g.ptr.begin(), g.ptr.end() - 1);
-    for (auto [u, v] : edges) {
-      by_target[next[v]++] = u;
-      by_target[next[u]++] = v;
-    }
-  }
-  std::vector<int> adj(g.ptr[n]);  // (size 2 edges)
+  std::vector<int> by_target(g.ptr[n]), adj(g.ptr[n]);  // (size 2 edges)
   std::vector<int> next(g.ptr.begin(), g.ptr.end() - 1);
+  for (auto [u, v] : edges) {
+    by_target[next[v]++] = u;
+    by_target[next[u]++] = v;
+  }
+  std::copy(g.ptr.begin(), g.ptr.end() - 1, next.begin());
   for (int w = 0; w < n; ++w)
     for (int p = g.ptr[w]; p < g.ptr[w + 1]; ++p) adj[next[by_target[p]]++] = w;
   g.adj.reserve(adj.size());
