@@ -245,6 +245,10 @@ TEST(Solver, ComplianceIsPerRow) {
   for (int j = 0; j < h.n; ++j)
     for (int p = h.col_ptr[j]; p < h.col_ptr[j + 1]; ++p) diff = std::max(diff, std::abs(h.values[p] - dense_h(h.row_idx[p], j)));
   EXPECT_LT(diff, 1e-12 * dense_h.cwiseAbs().maxCoeff());
+  // and nothing of the lower triangle is missing from the pattern
+  double stored = 0;
+  for (double v : h.values) stored += std::abs(v);
+  EXPECT_NEAR(stored, dense_h.triangularView<Eigen::Lower>().toDenseMatrix().cwiseAbs().sum(), 1e-12 * stored);
   EXPECT_EQ(sizes, kSizes);
 }
 
