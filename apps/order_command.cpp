@@ -1,8 +1,11 @@
 // ldlpgs order PROBLEM: every requested ordering on one matrix (a file or a generated mechanism), with nnz(L), flops, block
-// fill and block flops, optionally beside CHOLMOD's own counts for the same permutations.
+// fill and block flops, optionally beside CHOLMOD's own counts for the same permutations. With --certify, the proof of
+// ordering/certify.h; when it proves an optimum that no ordering compared reaches, its order is the last row, "optimal"
+// (chosen "certify"; --perm-dir writes optimal.perm).
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <optional>
 
 #include "apps/commands.h"
@@ -28,7 +31,8 @@ Command add_order_command(CLI::App& app) {
   add_alias(cmd, "--perm-out", &o->perm_dir);
   cmd->add_flag("--cholmod", o->cholmod, "Add CHOLMOD's nnz(L) and flops for each permutation");
   cmd->add_flag("--certify", o->certify,
-                "Prove which block orderings have the fewest block flops of any order, or give a lower bound");
+                "Prove which block orderings have the fewest block flops of any order, or give a lower bound; "
+                "an optimum below them all becomes a row of its own, optimal");
   cmd->add_option("--certify-time-limit-s", o->certify_time_limit_s, "Time limit of the exact search of --certify")
       ->capture_default_str();
   return [o] {
@@ -40,7 +44,7 @@ Command add_order_command(CLI::App& app) {
     auto before = [&](const std::string& name) {
       if (p.a.n >= kProgressDimension) progress("order", p.name + ": " + name);
     };
-    const std::vector<Row> rows = compare(p, names, o->cholmod, before);
+    std::vector<Row> rows = compare(p, names, o->cholmod, before);
     std::optional<BlockFlopsCertificate> cert;
     if (o->certify) {
       if (p.a.n >= kProgressDimension) progress("order", p.name + ": certify");
@@ -50,6 +54,18 @@ Command add_order_command(CLI::App& app) {
         if (r.summary.block && (!known || r.summary.block->flops < known->summary.block->flops)) known = &r;
       cert = certify_block_flops(p.blocks, o->certify_time_limit_s,
                                  known ? std::span<const int>(known->ordering.pivots) : std::span<const int>());
+      // An optimum below every ordering compared: its order becomes a row, "optimal".
+      const double fewest = known ? known->summary.block->flops : std::numeric_limits<double>::infinity();
+      if (std::optional<Ordering> optimal = certificate_ordering(p.blocks, *cert, fewest)) {
+        Row r;
+        r.ordering = std::move(*optimal);
+        r.summary = summarize(r.ordering, p.blocks, p.scalar_graph);
+        if (o->cholmod) {
+          Cholmod cm;
+          r.cholmod = cholmod_counts(p.a, r.ordering.perm, cm);
+        }
+        rows.push_back(std::move(r));
+      }
     }
     if (!o->perm_dir.empty()) {
       std::error_code ec;

@@ -50,6 +50,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cassert>
 #include <chrono>
 #include <limits>
 #include <numeric>
@@ -82,6 +83,44 @@ class ConnectedSetSearch {
     return solve(all, budget);
   }
   int64_t states() const { return static_cast<int64_t>(memo_.size()); }
+
+  // An order of C reaching F(C), read back from the memo: C's entry must be exact (else false).
+  // A branch that set F(C) left exact entries for all its parts (solve returns a value below a
+  // part's budget only from an exact entry, and exact entries are never replaced), so the
+  // block whose branch sums to F(C) goes last, after its parts' orders. The sum is redone in
+  // solve's order (f, then the parts lowest block first): integers below 2^53, equal exactly.
+  bool order_of(Set c, std::vector<int>* out) const {
+    const auto it = memo_.find(c);
+    if (it == memo_.end() || !it->second.exact) return false;
+    if (std::popcount(c) == 1) {
+      out->push_back(std::countr_zero(c));
+      return true;
+    }
+    const int64_t w = rows(neighbours(c));
+    for (Set m = c; m; m &= m - 1) {
+      const int last = std::countr_zero(m);
+      double cost = block_pivot_flops(size_[last], w);
+      std::vector<Set> parts;
+      bool known = true;
+      for (Set left = c & ~(Set{1} << last); left && known;) {
+        const Set part = component(left);
+        const auto p = memo_.find(part);
+        known = p != memo_.end() && p->second.exact;
+        if (known) cost += p->second.value;
+        parts.push_back(part);
+        left &= ~part;
+      }
+      if (!known || cost != it->second.value) continue;
+      for (Set part : parts)
+        if (!order_of(part, out)) return false;
+      out->push_back(last);
+      return true;
+    }
+    return false;
+  }
+  bool order_all(std::vector<int>* out) const {
+    return order_of(adj_.size() == 64 ? ~Set{0} : (Set{1} << adj_.size()) - 1, out);
+  }
 
   // Block flops of `pivots` (component numbering) played as the elimination game.
   double cost_of(const std::vector<int>& pivots) const {
@@ -347,7 +386,55 @@ void clique_atoms(const std::vector<Set>& adj, std::vector<Set>* atoms, std::vec
   atoms->push_back(rest);
 }
 
+// The filled graph of `pivots` on the graph `adj` (bit sets): adj and the game's fill edges.
+std::vector<Set> filled_graph(std::vector<Set> adj, std::span<const int> pivots) {
+  Set alive = ~Set{0};
+  for (int v : pivots) {
+    alive &= ~(Set{1} << v);
+    const Set later = adj[v] & alive;  // v's neighbours when it goes: made a clique
+    for (Set m = later; m; m &= m - 1) adj[std::countr_zero(m)] |= later & ~(Set{1} << std::countr_zero(m));
+  }
+  return adj;
+}
+
+// A perfect elimination order of the chordal graph h: maximum cardinality search (Tarjan and
+// Yannakakis 1984) visits, each time, the unvisited block with the most visited neighbours;
+// eliminating in the reverse of the visit order creates no fill in h.
+std::vector<int> perfect_elimination_order(const std::vector<Set>& h) {
+  const int k = static_cast<int>(h.size());
+  std::vector<int> visit;
+  Set visited = 0;
+  for (int i = 0; i < k; ++i) {
+    int v = -1, most = -1;
+    for (int u = 0; u < k; ++u) {
+      const int c = std::popcount(h[u] & visited);
+      if (!((visited >> u) & 1) && c > most) {
+        v = u;
+        most = c;
+      }
+    }
+    visit.push_back(v);
+    visited |= Set{1} << v;
+  }
+  std::reverse(visit.begin(), visit.end());
+  return visit;
+}
+
 }  // namespace
+
+std::optional<Ordering> certificate_ordering(const BlockPattern& pattern, const BlockFlopsCertificate& cert,
+                                             double fewest_known) {
+  if (cert.pivots.empty() || !(cert.lower_bound < fewest_known)) return std::nullopt;
+  Ordering o;
+  o.name = "optimal";
+  o.chosen = "certify";
+  o.level = Level::block;
+  o.pivots = cert.pivots;
+  o.perm = expand_pivots(pattern, o.pivots);
+  o.elimination = eliminate(pattern, o.pivots);
+  o.time_ms = cert.time_ms;
+  return o;
+}
 
 double zero_fill_block_flops(const BlockPattern& pattern) {
   const int nb = pattern.num_blocks();
@@ -385,6 +472,11 @@ BlockFlopsCertificate certify_block_flops(const BlockPattern& pattern, double ti
     }
     return true;
   };
+  // An order reaching the optimum, while one is known: the peeled blocks in peeling order (1.),
+  // then each component in a perfect elimination order of the union of its atoms' optimal
+  // filled graphs, chordal as cliques glue them (2.), which no order of G fills beyond, so that
+  // its flops are at most the sum of the atoms' less the separators': the optimum.
+  std::vector<int> optimal;  // (size nb when complete)
   // 1. Peeling, until no block is simplicial: a removal can make only its neighbours simplicial.
   double exact = 0;
   std::vector<int> queue(nb);
@@ -397,6 +489,7 @@ BlockFlopsCertificate certify_block_flops(const BlockPattern& pattern, double ti
     if (removed[v] || !simplicial(v)) continue;
     exact += block_pivot_flops(size[v], rows_of(adj[v]));
     removed[v] = 1;
+    optimal.push_back(v);
     ++cert.peeled;
     for (int u : adj[v]) {
       adj[u].erase(std::lower_bound(adj[u].begin(), adj[u].end(), v));
@@ -444,6 +537,7 @@ BlockFlopsCertificate certify_block_flops(const BlockPattern& pattern, double ti
     }
     std::vector<Set> atoms, separators;
     clique_atoms(cadj, &atoms, &separators);
+    std::vector<Set> filled(k, 0);  // union of the atoms' optimal filled graphs (size k)
     cert.atoms += static_cast<int>(atoms.size());
     for (Set c : separators) exact -= clique_flops(c, csize);
     for (Set atom : atoms) {
@@ -458,12 +552,12 @@ BlockFlopsCertificate certify_block_flops(const BlockPattern& pattern, double ti
         asize[i] = csize[members[i]];
         for (Set m = cadj[members[i]] & atom; m; m &= m - 1) aadj[i] |= Set{1} << at[std::countr_zero(m)];
       }
-      ConnectedSetSearch search(std::move(aadj), std::move(asize), deadline);
+      ConnectedSetSearch search(aadj, std::move(asize), deadline);
       // The given order restricted to the atom is an order of it: its cost bounds F above, and
       // the search need only look below it (F >= that cost then means F = that cost).
       double budget = std::numeric_limits<double>::infinity();
+      std::vector<int> restricted;
       if (!pivots.empty()) {
-        std::vector<int> restricted;
         for (int v : pivots) {
           const bool here = !removed[v] && local[v] < k && comp[local[v]] == v && at[local[v]] != -1;
           if (here) restricted.push_back(at[local[v]]);
@@ -471,7 +565,19 @@ BlockFlopsCertificate certify_block_flops(const BlockPattern& pattern, double ti
         budget = search.cost_of(restricted);
       }
       try {
-        exact += std::min(search.solve_all(budget), budget);
+        const double value = search.solve_all(budget);
+        exact += std::min(value, budget);
+        std::vector<int> best;  // the atom's optimal order, atom numbering
+        if (value >= budget) best = restricted;
+        else if (!search.order_all(&best)) best.clear();
+        if (best.size() == members.size()) {
+          const std::vector<Set> f = filled_graph(aadj, best);
+          for (size_t i = 0; i < members.size(); ++i)
+            for (Set m = f[i]; m; m &= m - 1) filled[members[i]] |= Set{1} << members[std::countr_zero(m)];
+        } else {
+          all_exact = false;  // not expected: the memo holds the optimum's branch (order_of)
+          assert(false && "certify: no order read back for an atom searched exactly");
+        }
       } catch (const OutOfBudget&) {
         all_exact = false;
         std::vector<int> blocks;
@@ -480,8 +586,15 @@ BlockFlopsCertificate certify_block_flops(const BlockPattern& pattern, double ti
       }
       cert.states += search.states();
     }
+    for (int i : perfect_elimination_order(filled)) optimal.push_back(comp[i]);
   }
   cert.optimal_proved = all_exact;
+  if (all_exact) {  // played as the game before it is reported
+    assert(std::ssize(optimal) == nb);
+    const double flops = block_costs(pattern, optimal, eliminate(pattern, optimal)).flops;
+    assert(flops == exact);
+    if (flops == exact) cert.pivots = std::move(optimal);
+  }
   cert.lower_bound = exact;
   cert.time_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   return cert;

@@ -9,8 +9,11 @@
 // branch and bound over the connected sets of each atom, memoised, until the time limit; an atom
 // it did not finish contributes a lower bound instead.
 #include <cstdint>
+#include <optional>
 #include <span>
+#include <vector>
 
+#include "ldlpgs/ordering/ordering.h"
 #include "ldlpgs/sparse/block_pattern.h"
 
 namespace ldlpgs {
@@ -22,6 +25,8 @@ struct BlockFlopsCertificate {
   bool chordal = false;         // peeling removed every block: the block graph is chordal
   int atoms = 0;                // pieces left by the clique separators, searched one by one
   int64_t states = 0;           // connected sets the search solved (memo entries)
+  std::vector<int> pivots;      // an order of the blocks reaching the optimum, when proved (its
+                                // block flops played and checked); else empty (size blocks)
   double time_ms = 0;
 };
 
@@ -30,6 +35,13 @@ struct BlockFlopsCertificate {
 // blocks, or ArgumentError.
 BlockFlopsCertificate certify_block_flops(const BlockPattern& pattern, double time_limit_s,
                                           std::span<const int> pivots = {});
+
+// The certificate's order as an Ordering named "optimal" (chosen "certify", time_ms the
+// certificate's), when one was proved with fewer block flops than `fewest_known` (the least of
+// the orderings compared): the row `ldlpgs order --certify` and ldlpgs.order(certify=True) add
+// for an optimum no heuristic reached. nullopt otherwise.
+std::optional<Ordering> certificate_ordering(const BlockPattern& pattern, const BlockFlopsCertificate& cert,
+                                             double fewest_known);
 
 // The block flops of a zero-fill order of `pattern`, as if it were chordal: a lower bound for
 // every order, and the optimum on a chordal block graph (certify.cpp, 0 and 4).

@@ -78,6 +78,10 @@ TEST(Certify, EqualsTheBruteForceMinimumOfBlockFlops) {
       const BlockFlopsCertificate c = certify_block_flops(p, 60, known);
       ASSERT_TRUE(c.optimal_proved) << p.num_blocks() << " blocks";
       EXPECT_EQ(c.lower_bound, least) << p.num_blocks() << " blocks, " << p.num_edges() << " edges";
+      // and the order it proves with reaches it
+      ASSERT_EQ(std::ssize(c.pivots), p.num_blocks());
+      check_permutation(c.pivots, p.num_blocks(), "certificate");
+      EXPECT_EQ(cost(p, c.pivots), least) << p.num_blocks() << " blocks";
       with_atoms += c.atoms > 1;
       with_peeling += c.peeled > 0 && !c.chordal;
       with_search += c.states > 0;
@@ -114,6 +118,7 @@ TEST(Certify, OutOfTimeGivesALowerBound) {
   const BlockPattern p(std::vector<int>(36, 6), graph_from_edges(36, edges));
   const BlockFlopsCertificate c = certify_block_flops(p, 0);
   EXPECT_FALSE(c.optimal_proved);
+  EXPECT_TRUE(c.pivots.empty());
   EXPECT_EQ(c.lower_bound, zero_fill_block_flops(p));
   EXPECT_LE(c.lower_bound, cost(p, choose_best(p).pivots));
 }
@@ -160,6 +165,25 @@ TEST(Certify, TrackedVehicleIsSolvedAt38300) {
   EXPECT_EQ(c.lower_bound, 38300);
   // and without the known order to prune with
   EXPECT_EQ(certify_block_flops(p, 60).lower_bound, 38300);
+}
+
+// A closed loop of 40 constraints: the search proves an optimum below every ordering's, and its
+// order, played as the game, costs exactly that (the brute force above checks the same on
+// graphs small enough to enumerate).
+TEST(Certify, ReturnsAnOptimalOrderNoHeuristicFinds) {
+  const BlockPattern p = constraint_graph(make_family("loop", 40));
+  const Choice best = choose_best(p);
+  const BlockFlopsCertificate c = certify_block_flops(p, 60, best.pivots);
+  ASSERT_TRUE(c.optimal_proved);
+  ASSERT_EQ(std::ssize(c.pivots), p.num_blocks());
+  check_permutation(c.pivots, p.num_blocks(), "certificate");
+  EXPECT_EQ(cost(p, c.pivots), c.lower_bound);
+  EXPECT_LT(c.lower_bound, cost(p, best.pivots));
+  const std::optional<Ordering> o = certificate_ordering(p, c, cost(p, best.pivots));
+  ASSERT_TRUE(o.has_value());
+  EXPECT_EQ(o->name, "optimal");
+  EXPECT_EQ(block_costs(p, o->pivots, o->elimination).flops, c.lower_bound);
+  EXPECT_FALSE(certificate_ordering(p, c, c.lower_bound).has_value());  // reached already: no row
 }
 
 }  // namespace

@@ -1192,6 +1192,28 @@ TEST(LdlpgsOrder, CertifiesTheTrackedVehicle) {
   EXPECT_NE(text.out.find("optimal: best (meca-w)\n"), std::string::npos) << text.out;
 }
 
+// On a closed loop of 40 constraints the certificate's optimum is below every ordering's: its
+// order is a row of its own, written by --perm-dir like the others.
+TEST(LdlpgsOrder, CertifyAddsTheOptimalOrderNoOrderingReached) {
+  const std::string dir = temp_path("loop-perms");
+  const nlohmann::json j = json_of("order loop:40 --ordering best,meca --certify --json --perm-dir " + dir);
+  ASSERT_EQ(j["results"].size(), 3u);
+  const nlohmann::json& optimal = j["results"][2];
+  EXPECT_EQ(optimal["ordering"], "optimal");
+  EXPECT_EQ(optimal["chosen"], "certify");
+  EXPECT_TRUE(optimal["certified_optimal"].get<bool>());
+  EXPECT_TRUE(j["optimum_proved"].get<bool>());
+  EXPECT_EQ(optimal["block_flops"], j["lower_bound_block_flops"]);
+  EXPECT_LT(optimal["block_flops"].get<double>(), j["results"][0]["block_flops"].get<double>());
+  EXPECT_FALSE(j["results"][0]["certified_optimal"].get<bool>());
+  std::ifstream perm(dir + "/optimal.perm");
+  std::vector<int> rows;
+  for (int r; perm >> r;) rows.push_back(r);
+  EXPECT_NO_THROW(check_permutation(rows, j["n"].get<int>(), "optimal.perm"));
+  const Result text = run("order loop:40 --ordering best --certify");
+  EXPECT_NE(text.out.find("optimal: optimal (certify)\n"), std::string::npos) << text.out;
+}
+
 // Out of time: a lower bound, below the orderings' flops, and nothing certified.
 TEST(LdlpgsOrder, CertifyOutOfTimeGivesALowerBound) {
   const nlohmann::json j = json_of("order grid:200 --ordering best --certify --certify-time-limit-s 0 --json");

@@ -2,6 +2,7 @@
 # same orderings, permutations, nnz(L), flops, block fill and block flops, and CHOLMOD's counts.
 import numpy as np
 import pytest
+import scipy.io
 import scipy.sparse
 
 import ldlpgs
@@ -72,6 +73,31 @@ def test_orderings_listed():
     names = ldlpgs.orderings()
     assert "meca" in names and "amd-scalar" in names
     assert list(ldlpgs.order(matrix("LFAT5.mtx"))) == list(names)
+
+
+def test_certify_adds_the_optimal_order_as_the_program_does(tmp_path):
+    # a ring of 20 constraints of 1 to 6 rows: the certificate's optimum is below every ordering's
+    sizes = [1, 3, 4, 5, 6] * 4
+    offsets = np.cumsum([0] + sizes)
+    n = offsets[-1]
+    dense = np.zeros((n, n))
+    for b in range(len(sizes)):
+        c = (b + 1) % len(sizes)
+        dense[offsets[b]:offsets[b + 1], offsets[c]:offsets[c + 1]] = -1
+    dense += dense.T
+    dense += np.diag(np.abs(dense).sum(axis=1) + 1)
+    a = scipy.sparse.csc_matrix(dense)
+    mtx, blocks = tmp_path / "ring.mtx", tmp_path / "ring.blocks"
+    scipy.io.mmwrite(str(mtx), a, symmetry="symmetric")
+    blocks.write_text("".join(f"{s}\n" for s in sizes))
+    cli = run_json("order", mtx, "--blocks", blocks, "--ordering", "best", "--certify", "--perm-dir", tmp_path)
+    py = ldlpgs.order(a, blocks=sizes, orderings="best", certify=True)
+    assert list(py) == ["best", "optimal"] == [r["ordering"] for r in cli["results"]]
+    optimal = py["optimal"]
+    assert optimal["chosen"] == "certify" and optimal["certified_optimal"] and optimal["optimum_proved"]
+    assert optimal["block_flops"] == optimal["lower_bound_block_flops"] < py["best"]["block_flops"]
+    assert optimal["block_flops"] == cli["results"][1]["block_flops"]
+    np.testing.assert_array_equal(optimal["perm"], read_perms(tmp_path, ["optimal"])["optimal"])
 
 
 def test_certify_and_chosen_match_program():
