@@ -4,9 +4,11 @@
 // the generic path, with the size given at run time), allocating nothing. Layout (symbolic.h):
 // a node block N_k is d x d row-major (only its lower triangle is read); the edge blocks below it
 // are stacked into one h x d row-major matrix E, each of its rows one scalar row of L.
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <type_traits>
+#include <utility>
 
 namespace ldlpgs::kernels {
 
@@ -140,6 +142,34 @@ inline const int32_t* reduce_runs(double* __restrict values, const double* __res
   }
   return runs;
 }
+
+// A whole column with one edge block of DB rows whose product lands in one run on a target's
+// diagonal (a chain's pivot: the next one is its only neighbour), fused, both sizes fixed at
+// compile time: ldl_node, begin_l with h = DB and W on the stack, the DB(DB+1)/2 products of
+// the lower triangle subtracted at target (row stride ld), end_l. The same operations in the
+// same order as the general path, so the same values; fixed sizes unroll the row loops the
+// general path runs h times. Returns the first bad pivot, or -1.
+template <int N, int DB>
+inline int eliminate_single(double* __restrict node, double* __restrict e, double* __restrict target, int ld,
+                            const double* floor, double* __restrict inv_d) {
+  const int bad = ldl_node<N>(node, floor, inv_d, N);
+  if (bad >= 0) return bad;
+  double w[DB * N];
+  begin_l<N>(e, w, node, inv_d, DB, N);
+  for (int r = 0; r < DB; ++r, target += ld)
+    for (int c = 0; c <= r; ++c) target[c] -= dot<N>(w + r * N, e + c * N, N);
+  end_l<N>(e, node, DB, N);
+  return -1;
+}
+using SingleFn = int (*)(double*, double*, double*, int, const double*, double*);
+template <size_t... I>
+constexpr std::array<SingleFn, sizeof...(I)> single_table(std::index_sequence<I...>) {
+  return {&eliminate_single<static_cast<int>(I / 6) + 1, static_cast<int>(I % 6) + 1>...};
+}
+// kSingle[6 (N - 1) + DB - 1]: one indirect call picks both sizes (the general path switches
+// twice, dispatch_size). Chain-253 24.1-25.0 -> 22.5-22.9 us, star-253 -6 %, ladder-253 +2-5 %
+// (factor_bench, papers/factor.md).
+inline constexpr std::array<SingleFn, 36> kSingle = single_table(std::make_index_sequence<36>{});
 
 // The same subtraction for a BLAS supernode (dense.h), whose product C = W Y^T is already
 // computed: c points at C's column of b's first row (row stride ldc); each run subtracts its

@@ -211,7 +211,12 @@ FactorInfo Numeric::eliminate() {
     const int* sizes = s.edge_sizes(t);
     double* w = scratch_.data();
     int bad = -1;
-    if (s.supernode_blas(t)) {
+    if (m == 1 && d <= 6 && sizes[0] <= 6 && !s.supernode_blas(t) && !s.supernode_mapped(t) && rsi[0] == 1 &&
+        rsi[3] == 0 && rsi[4] == h) {
+      // One edge block, one run onto its target's diagonal: a chain's pivot (kernels.h).
+      bad = kernels::kSingle[6 * (d - 1) + sizes[0] - 1](node, e, v + rsi[2], rsi[1], floor, inv_d);
+      rsi += 5;
+    } else if (s.supernode_blas(t)) {
       // A wide supernode (dense.h): the node by panels, W and Y by dtrsm, C = W Y^T by dgemm,
       // then C scattered through the same runs the small kernels walk.
       bad = dense::ldl_blocked(node, d, d, floor, inv_d, w);

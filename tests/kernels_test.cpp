@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <string>
 #include <vector>
 
 namespace ldlpgs {
@@ -138,6 +139,56 @@ TEST_P(Kernels, ColumnSubstitutionsMatchDenseProducts) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Sizes, Kernels, ::testing::Values(1, 2, 3, 4, 5, 6, 7, 12));
+
+// The fused column of one edge block (a chain's pivot), for every pair of sizes: against dense
+// Eigen (L = E N^-1, target -= E N^-1 E^T on its lower triangle), and value for value against
+// the general path it replaces (ldl_node, begin_l, reduce_runs, end_l).
+TEST(KernelsSingle, FusedColumnMatchesDenseAndTheGeneralPath) {
+  for (int d = 1; d <= 6; ++d)
+    for (int db = 1; db <= 6; ++db) {
+      SCOPED_TRACE("pivot " + std::to_string(d) + ", neighbour " + std::to_string(db));
+      const RowMatrix n = random_spd(d, 10 * d + db), e0 = RowMatrix::Random(db, d);
+      const int ld = db + 2;  // the target's row stride (a wider target supernode)
+      const RowMatrix target0 = RowMatrix::Random(db, ld);
+      const std::vector<double> floor(d, 0.0);
+      RowMatrix node = n, e = e0, target = target0;
+      std::vector<double> inv_d(d);
+      ASSERT_EQ(kernels::kSingle[6 * (d - 1) + db - 1](node.data(), e.data(), target.data(), ld, floor.data(), inv_d.data()), -1);
+      RowMatrix node_g = n, e_g = e0, target_g = target0;
+      std::vector<double> inv_g(d), w(db * d);
+      const std::vector<int32_t> runs = {1, ld, 0, 0, db};
+      kernels::dispatch_size(d, [&](auto size) {
+        constexpr int N = decltype(size)::value;
+        ASSERT_EQ(kernels::ldl_node<N>(node_g.data(), floor.data(), inv_g.data(), d), -1);
+        kernels::begin_l<N>(e_g.data(), w.data(), node_g.data(), inv_g.data(), db, d);
+        kernels::dispatch_size(db, [&](auto size_b) {
+          kernels::reduce_runs<N, decltype(size_b)::value>(target_g.data(), w.data(), e_g.data(), runs.data(), d, db);
+        });
+        kernels::end_l<N>(e_g.data(), node_g.data(), db, d);
+      });
+      EXPECT_EQ(node, node_g);
+      EXPECT_EQ(e, e_g);
+      EXPECT_EQ(target, target_g);
+      EXPECT_EQ(inv_d, inv_g);
+      const Eigen::MatrixXd l = Eigen::MatrixXd(e0) * Eigen::MatrixXd(n).inverse();
+      EXPECT_LT((Eigen::MatrixXd(e) - l).norm(), 1e-13 * (1 + l.norm()));
+      const Eigen::MatrixXd schur = Eigen::MatrixXd(target0.leftCols(db)) - l * Eigen::MatrixXd(e0).transpose();
+      for (int r = 0; r < db; ++r) {
+        for (int c = 0; c <= r; ++c) EXPECT_NEAR(target(r, c), schur(r, c), 1e-13 * (1 + schur.norm()));
+        for (int c = r + 1; c < ld; ++c) EXPECT_EQ(target(r, c), target0(r, c));  // upper and beyond: untouched
+      }
+    }
+}
+
+TEST(KernelsSingle, FusedColumnStopsAtAZeroPivot) {
+  RowMatrix node = random_spd(4, 3), e = RowMatrix::Random(3, 4), target = RowMatrix::Zero(3, 3);
+  node.row(2).setZero();
+  node.col(2).setZero();
+  const std::vector<double> floor(4, 1e-12);
+  std::vector<double> inv_d(4);
+  EXPECT_EQ(kernels::kSingle[6 * 3 + 2](node.data(), e.data(), target.data(), 3, floor.data(), inv_d.data()), 2);
+  EXPECT_EQ(target, RowMatrix::Zero(3, 3));  // nothing reduced past the bad pivot
+}
 
 }  // namespace
 }  // namespace ldlpgs
