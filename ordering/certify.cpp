@@ -477,6 +477,7 @@ BlockFlopsCertificate certify_block_flops(const BlockPattern& pattern, double ti
   // filled graphs, chordal as cliques glue them (2.), which no order of G fills beyond, so that
   // its flops are at most the sum of the atoms' less the separators': the optimum.
   std::vector<int> optimal;  // (size nb when complete)
+  bool order_read = true;    // every atom's optimal order was read back
   // 1. Peeling, until no block is simplicial: a removal can make only its neighbours simplicial.
   double exact = 0;
   std::vector<int> queue(nb);
@@ -559,7 +560,8 @@ BlockFlopsCertificate certify_block_flops(const BlockPattern& pattern, double ti
       std::vector<int> restricted;
       if (!pivots.empty()) {
         for (int v : pivots) {
-          const bool here = !removed[v] && local[v] < k && comp[local[v]] == v && at[local[v]] != -1;
+          // (local[v] is -1 for a block of a component not reached yet)
+          const bool here = !removed[v] && local[v] >= 0 && local[v] < k && comp[local[v]] == v && at[local[v]] != -1;
           if (here) restricted.push_back(at[local[v]]);
         }
         budget = search.cost_of(restricted);
@@ -574,8 +576,8 @@ BlockFlopsCertificate certify_block_flops(const BlockPattern& pattern, double ti
           const std::vector<Set> f = filled_graph(aadj, best);
           for (size_t i = 0; i < members.size(); ++i)
             for (Set m = f[i]; m; m &= m - 1) filled[members[i]] |= Set{1} << members[std::countr_zero(m)];
-        } else {
-          all_exact = false;  // not expected: the memo holds the optimum's branch (order_of)
+        } else {  // not expected: the memo holds the optimum's branch (order_of); the value stands
+          order_read = false;
           assert(false && "certify: no order read back for an atom searched exactly");
         }
       } catch (const OutOfBudget&) {
@@ -589,7 +591,7 @@ BlockFlopsCertificate certify_block_flops(const BlockPattern& pattern, double ti
     for (int i : perfect_elimination_order(filled)) optimal.push_back(comp[i]);
   }
   cert.optimal_proved = all_exact;
-  if (all_exact) {  // played as the game before it is reported
+  if (all_exact && order_read) {  // played as the game before it is reported
     assert(std::ssize(optimal) == nb);
     const double flops = block_costs(pattern, optimal, eliminate(pattern, optimal)).flops;
     assert(flops == exact);

@@ -2,11 +2,24 @@
 #include "ldlpgs/solver/system.h"
 
 #include <cassert>
+#include <string>
+
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 
 int System::add_block(int size, int column_a, int column_b) {
-  assert(size > 0 && column_a < num_columns && column_b < num_columns);
+  // The public API's check, in every build. One column on both sides is refused: H_0's product
+  // for the pair (EqualityMatrix) would keep J_a W J_b^T and drop its mirror J_b W J_a^T (a
+  // constraint joins two different bodies; physics/scene.cpp refuses the same body twice).
+  if (size <= 0) throw ArgumentError("System::add_block: a block of " + std::to_string(size) + " rows");
+  for (const int c : {column_a, column_b})
+    if (c < -1 || c >= num_columns)
+      throw ArgumentError("System::add_block: column " + std::to_string(c) + " outside -1.." +
+                          std::to_string(num_columns - 1));
+  if (column_a >= 0 && column_a == column_b)
+    throw ArgumentError("System::add_block: both sides on column " + std::to_string(column_a) +
+                        " (a block joins two different columns, or one and -1)");
   RowBlock b;
   b.size = size;
   b.position = num_rows;

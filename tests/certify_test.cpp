@@ -167,6 +167,21 @@ TEST(Certify, TrackedVehicleIsSolvedAt38300) {
   EXPECT_EQ(certify_block_flops(p, 60).lower_bound, 38300);
 }
 
+// Two components searched one after the other, with a known order that visits both: the
+// optimum and its order against brute force (a block of the second component was once looked
+// up by its index in the first, -1, out of bounds).
+TEST(Certify, TwoComponentsWithAKnownOrder) {
+  std::vector<std::pair<int, int>> edges;
+  for (int c = 0; c < 2; ++c)
+    for (int i = 0; i < 4; ++i) edges.emplace_back(4 * c + i, 4 * c + (i + 1) % 4);
+  const BlockPattern p(std::vector<int>{1, 3, 2, 6, 4, 1, 5, 2}, graph_from_edges(8, edges));
+  const std::vector<int> known = {7, 0, 6, 1, 5, 2, 4, 3};  // alternates between the components
+  const BlockFlopsCertificate c = certify_block_flops(p, 60, known);
+  ASSERT_TRUE(c.optimal_proved);
+  EXPECT_EQ(c.lower_bound, brute_force_minimum(p));
+  EXPECT_EQ(cost(p, c.pivots), c.lower_bound);
+}
+
 // A closed loop of 40 constraints: the search proves an optimum below every ordering's, and its
 // order, played as the game, costs exactly that (the brute force above checks the same on
 // graphs small enough to enumerate).

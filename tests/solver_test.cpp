@@ -1,6 +1,7 @@
 // solver/ against dense references: the exact solve of (H + eps diag H) lambda = R with
 // H = J W J^T built densely from the same J and W, and, with inequality rows, the mixed LCP
 // solved by enumerating active sets.
+#include "ldlpgs/sparse/error.h"
 #include "ldlpgs/solver/solver.h"
 
 #include <gtest/gtest.h>
@@ -250,6 +251,26 @@ TEST(Solver, ComplianceIsPerRow) {
   for (double v : h.values) stored += std::abs(v);
   EXPECT_NEAR(stored, dense_h.triangularView<Eigen::Lower>().toDenseMatrix().cwiseAbs().sum(), 1e-12 * stored);
   EXPECT_EQ(sizes, kSizes);
+}
+
+// A block's shape is checked in every build: rows, columns in range, two different columns.
+TEST(SystemBadInput, BlockWithoutRows) {
+  System s;
+  s.num_columns = 2;
+  EXPECT_THROW(s.add_block(0, 0, 1), ArgumentError);
+}
+TEST(SystemBadInput, ColumnOutOfRange) {
+  System s;
+  s.num_columns = 2;
+  EXPECT_THROW(s.add_block(3, 0, 2), ArgumentError);
+  EXPECT_THROW(s.add_block(3, -2, 1), ArgumentError);
+  EXPECT_EQ(s.add_block(3, 1, -1), 0);  // -1: the other side is static
+}
+TEST(SystemBadInput, BothSidesOnOneColumn) {
+  System s;
+  s.num_columns = 2;
+  EXPECT_THROW(s.add_block(3, 1, 1), ArgumentError);
+  EXPECT_EQ(s.num_rows, 0);
 }
 
 TEST(Solver, NamesRoundTrip) {
