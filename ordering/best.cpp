@@ -22,7 +22,8 @@ Choice choose_best(const BlockPattern& pattern) {
   Choice best;
   BlockCosts best_costs;
   // Candidates often agree (on the 1000-arm star meca, mda and mda-w give one order, meca-w and
-  // amd another): an order seen before is not played again. The game was 18 % of `spy` there.
+  // amd another): an order seen before is not played again. The game was 18 % of `spy` there;
+  // spy 0.56-0.71 -> 0.52-0.60 s (five alternated runs).
   std::vector<std::pair<std::vector<int>, BlockCosts>> seen;  // (size candidates)
   for (std::string_view name : kBestCandidates) {
     const OrderingInfo& info = find_ordering(name);

@@ -70,6 +70,17 @@ struct OutOfBudget {};
 using Clock = std::chrono::steady_clock;
 using Set = uint64_t;  // bit v: block v of the component (components of at most 64 blocks)
 
+// The filled graph of `pivots` on the graph `adj` (bit sets): adj and the game's fill edges.
+std::vector<Set> filled_graph(std::vector<Set> adj, std::span<const int> pivots) {
+  Set alive = ~Set{0};
+  for (int v : pivots) {
+    alive &= ~(Set{1} << v);
+    const Set later = adj[v] & alive;  // v's neighbours when it goes: made a clique
+    for (Set m = later; m; m &= m - 1) adj[std::countr_zero(m)] |= later & ~(Set{1} << std::countr_zero(m));
+  }
+  return adj;
+}
+
 // The exact search on one connected component of the peeled graph, its blocks numbered 0..k-1,
 // k <= 64, as a branch and bound: solve(C, budget) returns F(C) when F(C) < budget, and
 // otherwise some value >= budget that F(C) is not below. The memo keeps either kind.
@@ -124,14 +135,12 @@ class ConnectedSetSearch {
 
   // Block flops of `pivots` (component numbering) played as the elimination game.
   double cost_of(const std::vector<int>& pivots) const {
-    std::vector<Set> g = adj_;
+    const std::vector<Set> filled = filled_graph(adj_, pivots);
     Set alive = ~Set{0};
     double total = 0;
-    for (int v : pivots) {
+    for (int v : pivots) {  // v sees its filled neighbours eliminated after it
       alive &= ~(Set{1} << v);
-      const Set nbrs = g[v] & alive;
-      total += block_pivot_flops(size_[v], rows(nbrs));
-      for (Set m = nbrs; m; m &= m - 1) g[std::countr_zero(m)] |= nbrs & ~(Set{1} << std::countr_zero(m));
+      total += block_pivot_flops(size_[v], rows(filled[v] & alive));
     }
     return total;
   }
@@ -386,40 +395,6 @@ void clique_atoms(const std::vector<Set>& adj, std::vector<Set>* atoms, std::vec
   atoms->push_back(rest);
 }
 
-// The filled graph of `pivots` on the graph `adj` (bit sets): adj and the game's fill edges.
-std::vector<Set> filled_graph(std::vector<Set> adj, std::span<const int> pivots) {
-  Set alive = ~Set{0};
-  for (int v : pivots) {
-    alive &= ~(Set{1} << v);
-    const Set later = adj[v] & alive;  // v's neighbours when it goes: made a clique
-    for (Set m = later; m; m &= m - 1) adj[std::countr_zero(m)] |= later & ~(Set{1} << std::countr_zero(m));
-  }
-  return adj;
-}
-
-// A perfect elimination order of the chordal graph h: maximum cardinality search (Tarjan and
-// Yannakakis 1984) visits, each time, the unvisited block with the most visited neighbours;
-// eliminating in the reverse of the visit order creates no fill in h.
-std::vector<int> perfect_elimination_order(const std::vector<Set>& h) {
-  const int k = static_cast<int>(h.size());
-  std::vector<int> visit;
-  Set visited = 0;
-  for (int i = 0; i < k; ++i) {
-    int v = -1, most = -1;
-    for (int u = 0; u < k; ++u) {
-      const int c = std::popcount(h[u] & visited);
-      if (!((visited >> u) & 1) && c > most) {
-        v = u;
-        most = c;
-      }
-    }
-    visit.push_back(v);
-    visited |= Set{1} << v;
-  }
-  std::reverse(visit.begin(), visit.end());
-  return visit;
-}
-
 }  // namespace
 
 std::optional<Ordering> certificate_ordering(const BlockPattern& pattern, const BlockFlopsCertificate& cert,
@@ -588,7 +563,12 @@ BlockFlopsCertificate certify_block_flops(const BlockPattern& pattern, double ti
       }
       cert.states += search.states();
     }
-    for (int i : perfect_elimination_order(filled)) optimal.push_back(comp[i]);
+    // MCS-M's minimal elimination order of a chordal graph fills nothing (the graph is its own
+    // only minimal triangulation): a perfect elimination order of the union.
+    std::vector<int> peo;
+    std::vector<Set> unused;
+    mcs_m(filled, &peo, &unused);
+    for (int i : peo) optimal.push_back(comp[i]);
   }
   cert.optimal_proved = all_exact;
   if (all_exact && order_read) {  // played as the game before it is reported
