@@ -10,6 +10,13 @@
 #include <type_traits>
 #include <utility>
 
+// Every loop below whose trip count is a block size is unrolled: GCC unrolls a loop of fixed
+// trip count fully only when its body is small, and left the nested loops of the kernels as
+// loops (ldl_node<5>: 206 instructions, 24 branches, 36 ns on independent nodes; unrolled 13.5
+// ns). Chain-300 24 -> 21 us (papers/factor.md, "Per-pivot overhead"). A runtime count (N = 0,
+// h) is unrolled by 8 with a remainder.
+#define LDLPGS_UNROLL _Pragma("GCC unroll 8")
+
 namespace ldlpgs::kernels {
 
 // Calls f(std::integral_constant<int, N>) with N = d for d in 1..6, N = 0 otherwise: the switch
@@ -31,7 +38,7 @@ template <int N>
 inline double dot(const double* x, const double* y, int n) {
   const int m = N ? N : n;
   double s = 0;
-  for (int k = 0; k < m; ++k) s += x[k] * y[k];
+  LDLPGS_UNROLL for (int k = 0; k < m; ++k) s += x[k] * y[k];
   return s;
 }
 
@@ -45,19 +52,44 @@ inline double dot(const double* x, const double* y, int n) {
 template <int N>
 inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
   const int m = N ? N : n;
-  for (int j = 0; j < m; ++j) {
-    double* aj = a + j * m;
-    double d = aj[j];
-    for (int k = 0; k < j; ++k) d -= aj[k] * aj[k] * a[k * m + k];
-    aj[j] = d;
-    if (!(std::abs(d) > floor[j]) || !std::isfinite(d)) return j;
-    const double inv = 1.0 / d;
-    inv_d[j] = inv;
-    for (int i = j + 1; i < m; ++i) {
-      double* ai = a + i * m;
-      double s = ai[j];
-      for (int k = 0; k < j; ++k) s -= ai[k] * aj[k] * a[k * m + k];
-      ai[j] = s * inv;
+  if constexpr (N == 0) {
+    for (int j = 0; j < m; ++j) {
+      double* aj = a + j * m;
+      double d = aj[j];
+      for (int k = 0; k < j; ++k) d -= aj[k] * aj[k] * a[k * m + k];
+      aj[j] = d;
+      if (!(std::abs(d) > floor[j]) || !std::isfinite(d)) return j;
+      const double inv = 1.0 / d;
+      inv_d[j] = inv;
+      for (int i = j + 1; i < m; ++i) {
+        double* ai = a + i * m;
+        double s = ai[j];
+        for (int k = 0; k < j; ++k) s -= ai[k] * aj[k] * a[k * m + k];
+        ai[j] = s * inv;
+      }
+    }
+  } else {
+    // The pivots form a chain: d_j needs l_jk = u_jk / d_k for every k < j, u_jk = l_jk d_k
+    // being the value before its scaling. d_j = a_jj - sum u_jk^2 (1 / d_k), with u_jk^2 taken
+    // before 1 / d_k is known, leaves one multiply and one subtract between two divisions
+    // (l_jk l_jk d_k left three multiplies and a subtract): on a chain, whose next pivot waits
+    // for this one, ldl_node<5> 28.8 -> 22.4 ns (bench of the kernel alone, papers/factor.md).
+    double uu[N * N];  // uu[i N + j] = u_ij^2, i > j
+    LDLPGS_UNROLL for (int j = 0; j < N; ++j) {
+      double* aj = a + j * N;
+      double d = aj[j];
+      LDLPGS_UNROLL for (int k = 0; k < j; ++k) d -= uu[j * N + k] * inv_d[k];
+      aj[j] = d;
+      if (!(std::abs(d) > floor[j]) || !std::isfinite(d)) return j;
+      const double inv = 1.0 / d;
+      inv_d[j] = inv;
+      LDLPGS_UNROLL for (int i = j + 1; i < N; ++i) {
+        double* ai = a + i * N;
+        double s = ai[j];
+        LDLPGS_UNROLL for (int k = 0; k < j; ++k) s -= ai[k] * (aj[k] * a[k * N + k]);
+        uu[i * N + j] = s * s;
+        ai[j] = s * inv;
+      }
     }
   }
   return -1;
@@ -69,20 +101,20 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
 template <int N>
 inline void forward_unit(const double* a, double* x, int n) {
   const int m = N ? N : n;
-  for (int i = 1; i < m; ++i)
-    for (int k = 0; k < i; ++k) x[i] -= a[i * m + k] * x[k];
+  LDLPGS_UNROLL for (int i = 1; i < m; ++i)
+    LDLPGS_UNROLL for (int k = 0; k < i; ++k) x[i] -= a[i * m + k] * x[k];
 }
 template <int N>
 inline void backward_unit(const double* a, double* x, int n) {
   const int m = N ? N : n;
-  for (int i = m - 2; i >= 0; --i)
-    for (int k = i + 1; k < m; ++k) x[i] -= a[k * m + i] * x[k];
+  LDLPGS_UNROLL for (int i = m - 2; i >= 0; --i)
+    LDLPGS_UNROLL for (int k = i + 1; k < m; ++k) x[i] -= a[k * m + i] * x[k];
 }
 template <int N>
 inline void solve_node(const double* a, const double* inv_d, double* x, int n) {
   const int m = N ? N : n;
   forward_unit<N>(a, x, m);
-  for (int i = 0; i < m; ++i) x[i] *= inv_d[i];
+  LDLPGS_UNROLL for (int i = 0; i < m; ++i) x[i] *= inv_d[i];
   backward_unit<N>(a, x, m);
 }
 
@@ -95,23 +127,34 @@ inline void solve_node(const double* a, const double* inv_d, double* x, int n) {
 // next pivot. Substitution, not the explicit inverse the talk multiplies by: with the inverse
 // the backward error of ladder and grid mechanisms grew from 2e-17 to 8e-14 (papers/factor.md).
 // el and w are h x d row-major.
-template <int N>
+// H > 0: h = H rows, fixed at compile time and unrolled (eliminate_single); 0: h at run time,
+// left a loop (unrolling it slowed tree-1265 by 5 %, factor_bench).
+template <int N, int H = 0>
 inline void begin_l(double* __restrict el, double* __restrict w, const double* __restrict node,
                     const double* __restrict inv_d, int h, int n) {
   const int m = N ? N : n;
-  for (int r = 0; r < h; ++r) {
+  auto row = [&](int r) {
     double* yr = el + r * m;
     forward_unit<N>(node, yr, m);
-    for (int c = 0; c < m; ++c) {
+    LDLPGS_UNROLL for (int c = 0; c < m; ++c) {
       w[r * m + c] = yr[c];
       yr[c] *= inv_d[c];
     }
+  };
+  if constexpr (H > 0) {
+    LDLPGS_UNROLL for (int r = 0; r < H; ++r) row(r);
+  } else {
+    for (int r = 0; r < h; ++r) row(r);
   }
 }
-template <int N>
+template <int N, int H = 0>
 inline void end_l(double* __restrict el, const double* __restrict node, int h, int n) {
   const int m = N ? N : n;
-  for (int r = 0; r < h; ++r) backward_unit<N>(node, el + r * m, m);
+  if constexpr (H > 0) {
+    LDLPGS_UNROLL for (int r = 0; r < H; ++r) backward_unit<N>(node, el + r * m, m);
+  } else {
+    for (int r = 0; r < h; ++r) backward_unit<N>(node, el + r * m, m);
+  }
 }
 
 // S <- S - E L^T (the talk's reduce<degree>, most of the time) for one edge block b of the
@@ -135,10 +178,10 @@ inline const int32_t* reduce_runs(double* __restrict values, const double* __res
     const double* er = e + runs[1] * m;
     int r = 0;
     if (i == 0)
-      for (; r < nb; ++r, t += ld, er += m)
-        for (int c = 0; c <= r; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+      LDLPGS_UNROLL for (; r < nb; ++r, t += ld, er += m)
+        LDLPGS_UNROLL for (int c = 0; c <= r; ++c) t[c] -= dot<N>(er, lb + c * m, m);
     for (; r < runs[2]; ++r, t += ld, er += m)
-      for (int c = 0; c < nb; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+      LDLPGS_UNROLL for (int c = 0; c < nb; ++c) t[c] -= dot<N>(er, lb + c * m, m);
   }
   return runs;
 }
@@ -155,10 +198,10 @@ inline int eliminate_single(double* __restrict node, double* __restrict e, doubl
   const int bad = ldl_node<N>(node, floor, inv_d, N);
   if (bad >= 0) return bad;
   double w[DB * N];
-  begin_l<N>(e, w, node, inv_d, DB, N);
-  for (int r = 0; r < DB; ++r, target += ld)
-    for (int c = 0; c <= r; ++c) target[c] -= dot<N>(w + r * N, e + c * N, N);
-  end_l<N>(e, node, DB, N);
+  begin_l<N, DB>(e, w, node, inv_d, DB, N);
+  LDLPGS_UNROLL for (int r = 0; r < DB; ++r, target += ld)
+    LDLPGS_UNROLL for (int c = 0; c <= r; ++c) target[c] -= dot<N>(w + r * N, e + c * N, N);
+  end_l<N, DB>(e, node, DB, N);
   return -1;
 }
 using SingleFn = int (*)(double*, double*, double*, int, const double*, double*);
@@ -203,13 +246,13 @@ inline void reduce_mapped(double* __restrict values, const double* __restrict e,
   const int nb = DB ? DB : db;
   const double* er = e + int64_t{first} * m;
   int r = first;
-  for (int i = 0; i < nb; ++i, ++r, er += m) {
+  LDLPGS_UNROLL for (int i = 0; i < nb; ++i, ++r, er += m) {
     double* __restrict t = values + map[rows[r]] + column;
-    for (int c = 0; c <= i; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+    LDLPGS_UNROLL for (int c = 0; c <= i; ++c) t[c] -= dot<N>(er, lb + c * m, m);
   }
   for (; r < h; ++r, er += m) {
     double* __restrict t = values + map[rows[r]] + column;
-    for (int c = 0; c < nb; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+    LDLPGS_UNROLL for (int c = 0; c < nb; ++c) t[c] -= dot<N>(er, lb + c * m, m);
   }
 }
 // c points at C's column of b's first row, as for scatter_runs.
@@ -241,8 +284,10 @@ inline void backward_column(const double* y, double* yk, const double* l, const 
   for (int r = 0; r < h; ++r) {
     const double yr = y[rows[r]];
     const double* lr = l + r * m;
-    for (int c = 0; c < m; ++c) yk[c] -= lr[c] * yr;
+    LDLPGS_UNROLL for (int c = 0; c < m; ++c) yk[c] -= lr[c] * yr;
   }
 }
 
 }  // namespace ldlpgs::kernels
+
+#undef LDLPGS_UNROLL

@@ -87,7 +87,22 @@ class Numeric {
   FactorInfo eliminate();                      // the elimination and the inertia, into info_
   FactorInfo finish();                         // eliminate(), the pivot named at H's scale
   const FactorInfo& refuse_not_finite(int row, double value);  // status not_finite for that entry
+  // What eliminate() reads of supernode t, packed into one record per supernode: the Symbolic's
+  // accessors read ten arrays, two of them through sn_begin_, per supernode; on a chain (one
+  // small pivot per supernode) those lookups and the tests choosing the kernel were a tenth of
+  // the factorization (perf, papers/factor.md "Per-pivot overhead").
+  enum class Kind : uint8_t { single, blocks, blocks_mapped, blas, blas_mapped };
+  struct Step {
+    int64_t node;          // offset of the node block in values_
+    const int32_t* rsi;    // its runs (Symbolic::rsi)
+    const int* rows;       // first row in E of each edge block (Symbolic::edge_rows)
+    const int* sizes;      // rows of each edge block (Symbolic::edge_sizes)
+    int d, h, r0, m;       // rows of the node, rows of E, first permuted row, edge blocks
+    Kind kind;
+    uint8_t single;        // kernels::kSingle index when kind == single
+  };
   const Symbolic* symbolic_;
+  std::vector<Step> steps_;      // (size symbolic.num_supernodes())
   std::vector<double> values_;   // packed blocks (size symbolic.num_values())
   std::vector<double> scratch_;  // W = E_{*,k} L_kk^-T for the reduction (kernels::begin_l; size symbolic.scratch_size())
   std::vector<double> floor_;    // zero-pivot threshold per permuted row (size n)
