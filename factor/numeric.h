@@ -97,6 +97,7 @@ class Numeric {
     const int32_t* rsi;    // its runs (Symbolic::rsi)
     const int* rows;       // first row in E of each edge block (Symbolic::edge_rows)
     const int* sizes;      // rows of each edge block (Symbolic::edge_sizes)
+    const int* erows;      // permuted row of each row of E (Symbolic::column_rows)
     int d, h, r0, m;       // rows of the node, rows of E, first permuted row, edge blocks
     Kind kind;
     uint8_t single;        // kernels::kSingle index when kind == single
