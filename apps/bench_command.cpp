@@ -96,6 +96,10 @@ Command add_bench_command(CLI::App& app) {
                   "RSI indices per entry of L above which a supernode scatters through a relative map (0: always, "
                   "negative: never)")
       ->capture_default_str();
+  cmd->add_option("--rsi-min-entries", o->symbolic.rsi_min_entries,
+                  "RSI indices the budget of --rsi-max-per-entry always allows (unless that is 0)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   add_json_flag(cmd, &o->json);
   return [o] {
     const OrderingInfo& info = find_ordering(o->ordering);

@@ -177,7 +177,10 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
   // through relative maps instead, largest first, until the runs left fit: the fewest mapped
   // supernodes for the memory, since a mapped one pays O(rows of each target) per factorization
   // (on bcsstk13 the maps were 12% of the time: papers/factor.md, "Relative maps").
-  const double budget = options.rsi_max_per_entry * static_cast<double>(s.nnz_l_);
+  const double budget = options.rsi_max_per_entry == 0
+                            ? 0.0
+                            : std::max(options.rsi_max_per_entry * static_cast<double>(s.nnz_l_),
+                                       static_cast<double>(options.rsi_min_entries));
   if (options.rsi_max_per_entry >= 0 && static_cast<double>(s.rsi_.size()) > budget) {
     std::vector<int> by_size(ns);  // supernodes, most runs first (size ns)
     std::iota(by_size.begin(), by_size.end(), 0);

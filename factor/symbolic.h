@@ -52,6 +52,11 @@ struct SymbolicOptions {
   // per entry), so they keep them and their speed. 0: every supernode mapped; negative: none
   // (papers/factor.md, "Relative maps", measures both).
   double rsi_max_per_entry = 1.0;
+  // ... but never below this many indices (2^18, 1 MB), unless rsi_max_per_entry is 0: the maps
+  // cost 1.4-3x on the small scalar-block test matrices, whose runs are 5-10 indices per entry
+  // of L but under 300k in all (dwt_992: 1.07 ms mapped against 0.45 ms with runs, 294k
+  // indices), while bcsstk13 (2.6M), where the budget is L's size, keeps its 292k.
+  int64_t rsi_min_entries = int64_t{1} << 18;
 };
 
 class Symbolic {

@@ -196,7 +196,7 @@ TEST(Symbolic, RsiStaysWithinItsBudget) {
     const Symbolic runs = Symbolic::analyze(m.a, blocks, o, {.rsi_max_per_entry = -1});
     EXPECT_FALSE(runs.any_mapped());
     for (double budget : {1.0, 0.25}) {
-      const Symbolic s = Symbolic::analyze(m.a, blocks, o, {.rsi_max_per_entry = budget});
+      const Symbolic s = Symbolic::analyze(m.a, blocks, o, {.rsi_max_per_entry = budget, .rsi_min_entries = 0});
       EXPECT_LE(static_cast<double>(s.rsi_size()), budget * static_cast<double>(s.nnz_l()));
       EXPECT_EQ(s.any_mapped(), runs.rsi_size() > budget * static_cast<double>(runs.nnz_l()));
       // Largest first: no supernode kept has more runs than one mapped.
@@ -215,6 +215,15 @@ TEST(Symbolic, RsiStaysWithinItsBudget) {
     }
     if (m.name == "bcsstk13.mtx") {
       EXPECT_GT(runs.rsi_size(), 7 * runs.nnz_l());
+    }
+    // The defaults: runs up to rsi_min_entries whatever L's size, the per-entry budget above it
+    // (bcsstk13: within L's size, issue 13's target).
+    const Symbolic d = Symbolic::analyze(m.a, blocks, o);
+    const double allowed = std::max(static_cast<double>(d.nnz_l()), static_cast<double>(SymbolicOptions{}.rsi_min_entries));
+    EXPECT_LE(static_cast<double>(d.rsi_size()), allowed);
+    EXPECT_EQ(d.any_mapped(), static_cast<double>(runs.rsi_size()) > allowed);
+    if (m.name == "bcsstk13.mtx") {
+      EXPECT_LE(d.rsi_size(), d.nnz_l());
     }
   }
 }
