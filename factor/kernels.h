@@ -70,15 +70,16 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
     }
   } else {
     // The pivots form a chain: d_j needs l_jk = u_jk / d_k for every k < j, u_jk = l_jk d_k
-    // being the value before its scaling. d_j = a_jj - sum u_jk^2 (1 / d_k), with u_jk^2 taken
-    // before 1 / d_k is known, leaves one multiply and one subtract between two divisions
-    // (l_jk l_jk d_k left three multiplies and a subtract): on a chain, whose next pivot waits
-    // for this one, ldl_node<5> 28.8 -> 22.4 ns (bench of the kernel alone, papers/factor.md).
-    double uu[N * N];  // uu[i N + j] = u_ij^2, i > j
+    // being the value before its scaling. d_j = a_jj - sum u_jk l_jk, with u_jk kept from before
+    // the scaling, leaves two multiplies and a subtract between two divisions (l_jk l_jk d_k left
+    // three multiplies and a subtract). u_jk^2 (1 / d_k) would leave one multiply, but u^2
+    // overflows for |u| > 2^512 where u^2 / d does not (a positive definite 3 x 3 with entries
+    // near 1e200 gave a pivot of -inf: found in review, Numeric.LargeEntriesOfAPositiveDefiniteNode).
+    double ul[N * N];  // ul[i N + j] = u_ij l_ij, i > j
     LDLPGS_UNROLL for (int j = 0; j < N; ++j) {
       double* aj = a + j * N;
       double d = aj[j];
-      LDLPGS_UNROLL for (int k = 0; k < j; ++k) d -= uu[j * N + k] * inv_d[k];
+      LDLPGS_UNROLL for (int k = 0; k < j; ++k) d -= ul[j * N + k];
       aj[j] = d;
       if (!(std::abs(d) > floor[j]) || !std::isfinite(d)) return j;
       const double inv = 1.0 / d;
@@ -87,8 +88,9 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
         double* ai = a + i * N;
         double s = ai[j];
         LDLPGS_UNROLL for (int k = 0; k < j; ++k) s -= ai[k] * (aj[k] * a[k * N + k]);
-        uu[i * N + j] = s * s;
-        ai[j] = s * inv;
+        const double l = s * inv;
+        ul[i * N + j] = s * l;
+        ai[j] = l;
       }
     }
   }

@@ -535,6 +535,14 @@ TEST(Numeric, PositiveDefiniteAtEveryScaleOfDoubleFactorsAndSolves) {
 // diag(2^1000, 2^-1070) spans more than double's exponent range, and the tiny pivot's reciprocal
 // overflows at any scale that keeps 2^1000 finite: reported as a zero pivot, never "ok" with a
 // non-finite solution.
+// A node whose entries square past the largest double: 1e-200 and 1e200 on the diagonal keep
+// the diagonal's binades centred on 1 (no scaling), and a pivot recurrence that squares the
+// unscaled 5e199 (2.5e399) returned -inf for this positive definite matrix (found in review).
+TEST(Numeric, LargeEntriesOfAPositiveDefiniteNode) {
+  const SymmetricCsc a = csc_from_triplets(3, std::vector<Triplet>{{0, 0, 1e-200}, {1, 1, 1e200}, {2, 1, 5e199}, {2, 2, 1e200}});
+  EXPECT_EQ(factor_and_compare(a, "3x3 at 1e200"), std::vector<FactorStatus>(2, FactorStatus::ok));
+}
+
 TEST(Numeric, SubnormalPivotIsScaledOrReported) {
   const SymmetricCsc mixed = csc_from_triplets(2, std::vector<Triplet>{{0, 0, 1.0}, {1, 1, std::ldexp(1.0, -1050)}});
   EXPECT_EQ(factor_and_compare(mixed, "diag(1, 2^-1050)"), std::vector<FactorStatus>(2, FactorStatus::ok));
