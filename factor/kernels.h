@@ -13,8 +13,8 @@
 // Every loop below whose trip count is a block size is unrolled: GCC unrolls a loop of fixed
 // trip count fully only when its body is small, and left the nested loops of the kernels as
 // loops (ldl_node<5>: 206 instructions, 24 branches, 36 ns on independent nodes; unrolled 13.5
-// ns). Chain-300 24 -> 21 us (papers/factor.md, "Per-pivot overhead"). A runtime count (N = 0,
-// h) is unrolled by 8 with a remainder.
+// ns). Chain-300 24 -> 21 us (papers/factor.md, "Per-pivot overhead"). A run-time size (N = 0)
+// is unrolled by 8 with a remainder; the loops over rows of E (h) carry no pragma (begin_l).
 #define LDLPGS_UNROLL _Pragma("GCC unroll 8")
 
 namespace ldlpgs::kernels {
@@ -53,6 +53,8 @@ template <int N>
 inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
   const int m = N ? N : n;
   if constexpr (N == 0) {
+    // Sizes over 6, given at run time: the recurrence below needs an m x m array of u l on the
+    // stack, unbounded here, so this path keeps l_jk l_jk d_k.
     for (int j = 0; j < m; ++j) {
       double* aj = a + j * m;
       double d = aj[j];

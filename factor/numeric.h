@@ -87,7 +87,8 @@ class Numeric {
   FactorInfo eliminate();                      // the elimination and the inertia, into info_
   FactorInfo finish();                         // eliminate(), the pivot named at H's scale
   const FactorInfo& refuse_not_finite(int row, double value);  // status not_finite for that entry
-  // What eliminate() reads of supernode t, packed into one record per supernode: the Symbolic's
+  // What eliminate(), prepare() and solve() read of supernode t, packed into one record per
+  // supernode (built by the constructor; the Symbolic is immutable): the Symbolic's
   // accessors read ten arrays, two of them through sn_begin_, per supernode; on a chain (one
   // small pivot per supernode) those lookups and the tests choosing the kernel were a tenth of
   // the factorization (perf, papers/factor.md "Per-pivot overhead").
