@@ -102,14 +102,31 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
 // The substitutions with a factored node block (L D L^T in place, inv_d = 1 / D), per row x:
 // forward with the unit-lower L (x <- L^-1 x), back with L^T (x <- L^-T x); x <- N^-1 x is
 // forward, scale by D^-1, back.
-template <int N>
-inline void forward_unit(const double* a, double* x, int n) {
+// Two rows at a time, one in each lane of a 2-vector (GCC's and clang's vector extension; on
+// x86-64 SSE2, the baseline every build has): begin_l, end_l and the reductions below do in each
+// lane the scalar operations of one row in the scalar order (a separate multiply and add or
+// subtract each, never fused: no build enables FMA), so the values are those of the row-by-row
+// kernels bit for bit, with about half the instructions. GCC 12 vectorized none of the scalar
+// forms: their dot products are ordered sums, which it may not reassociate. Chain-253 20.9 ->
+// 14.6 us, star-1265 140 -> 115 us (factor_bench, papers/factor.md "Two rows per instruction").
+using V2 = double __attribute__((vector_size(16)));
+inline V2 pair(const double* x0, const double* x1, int k) { return V2{x0[k], x1[k]}; }
+inline void unpair(V2 x, double* x0, double* x1, int k) {
+  x0[k] = x[0];
+  x1[k] = x[1];
+}
+
+// The substitutions with a factored node block (L D L^T in place, inv_d = 1 / D), per row x (T
+// double) or pair of rows (T V2): forward with the unit-lower L (x <- L^-1 x), back with L^T
+// (x <- L^-T x); x <- N^-1 x is forward, scale by D^-1, back.
+template <int N, class T>
+inline void forward_unit(const double* a, T* x, int n) {
   const int m = N ? N : n;
   LDLPGS_UNROLL for (int i = 1; i < m; ++i)
     LDLPGS_UNROLL for (int k = 0; k < i; ++k) x[i] -= a[i * m + k] * x[k];
 }
-template <int N>
-inline void backward_unit(const double* a, double* x, int n) {
+template <int N, class T>
+inline void backward_unit(const double* a, T* x, int n) {
   const int m = N ? N : n;
   LDLPGS_UNROLL for (int i = m - 2; i >= 0; --i)
     LDLPGS_UNROLL for (int k = i + 1; k < m; ++k) x[i] -= a[k * m + i] * x[k];
@@ -130,34 +147,76 @@ inline void solve_node(const double* a, const double* inv_d, double* x, int n) {
 // d(d-1)/2 dependent multiply-subtracts per row) is then off that critical path, overlapping the
 // next pivot. Substitution, not the explicit inverse the talk multiplies by: with the inverse
 // the backward error of ladder and grid mechanisms grew from 2e-17 to 8e-14 (papers/factor.md).
-// el and w are h x d row-major.
-// H > 0: h = H rows, fixed at compile time and unrolled (eliminate_single); 0: h at run time,
-// left a loop (unrolling it slowed tree-1265 by 5 %, factor_bench).
-template <int N, int H = 0>
+// el and w are h x d row-major; with N fixed, rows go in pairs (V2), an odd last one alone.
+template <int N>
 inline void begin_l(double* __restrict el, double* __restrict w, const double* __restrict node,
                     const double* __restrict inv_d, int h, int n) {
   const int m = N ? N : n;
-  auto row = [&](int r) {
+  int r = 0;
+  if constexpr (N > 0) {
+    for (; r + 2 <= h; r += 2) {
+      double *y0 = el + r * N, *y1 = y0 + N, *w0 = w + r * N, *w1 = w0 + N;
+      V2 x[N];
+      LDLPGS_UNROLL for (int c = 0; c < N; ++c) x[c] = pair(y0, y1, c);
+      forward_unit<N>(node, x, N);
+      LDLPGS_UNROLL for (int c = 0; c < N; ++c) {
+        unpair(x[c], w0, w1, c);
+        unpair(x[c] * inv_d[c], y0, y1, c);
+      }
+    }
+  }
+  for (; r < h; ++r) {
     double* yr = el + r * m;
     forward_unit<N>(node, yr, m);
     LDLPGS_UNROLL for (int c = 0; c < m; ++c) {
       w[r * m + c] = yr[c];
       yr[c] *= inv_d[c];
     }
-  };
-  if constexpr (H > 0) {
-    LDLPGS_UNROLL for (int r = 0; r < H; ++r) row(r);
-  } else {
-    for (int r = 0; r < h; ++r) row(r);
   }
 }
-template <int N, int H = 0>
+template <int N>
 inline void end_l(double* __restrict el, const double* __restrict node, int h, int n) {
   const int m = N ? N : n;
-  if constexpr (H > 0) {
-    LDLPGS_UNROLL for (int r = 0; r < H; ++r) backward_unit<N>(node, el + r * m, m);
-  } else {
-    for (int r = 0; r < h; ++r) backward_unit<N>(node, el + r * m, m);
+  int r = 0;
+  if constexpr (N > 0) {
+    for (; r + 2 <= h; r += 2) {
+      double *y0 = el + r * N, *y1 = y0 + N;
+      V2 x[N];
+      LDLPGS_UNROLL for (int c = 0; c < N; ++c) x[c] = pair(y0, y1, c);
+      backward_unit<N>(node, x, N);
+      LDLPGS_UNROLL for (int c = 0; c < N; ++c) unpair(x[c], y0, y1, c);
+    }
+  }
+  for (; r < h; ++r) backward_unit<N>(node, el + r * m, m);
+}
+
+// The rows of an edge block's Y (DB rows of N) in pairs for the reductions: yt[p][k] =
+// (Y_{2p,k}, Y_{2p+1,k}); an odd last row repeats in lane 1, which is never used.
+template <int N, int DB>
+inline void pair_rows(const double* y, V2 (*yt)[N]) {
+  LDLPGS_UNROLL for (int p = 0; p < (DB + 1) / 2; ++p) {
+    const double* y0 = y + 2 * p * N;
+    const double* y1 = 2 * p + 1 < DB ? y0 + N : y0;
+    LDLPGS_UNROLL for (int k = 0; k < N; ++k) yt[p][k] = pair(y0, y1, k);
+  }
+}
+// t[c] -= w . Y_c for c < cols (<= DB): two adjacent target entries per vector, each lane the
+// scalar dot product's sum in its order (from 0, k ascending), then one subtraction.
+template <int N>
+inline void subtract_row(double* __restrict t, const double* __restrict w, const V2 (*yt)[N], int cols) {
+  int c = 0;
+  LDLPGS_UNROLL for (; c + 2 <= cols; c += 2) {
+    V2 s = {0, 0};
+    LDLPGS_UNROLL for (int k = 0; k < N; ++k) s += w[k] * yt[c / 2][k];
+    V2 x;
+    __builtin_memcpy(&x, t + c, sizeof x);
+    x -= s;
+    __builtin_memcpy(t + c, &x, sizeof x);
+  }
+  if (c < cols) {
+    double s = 0;
+    LDLPGS_UNROLL for (int k = 0; k < N; ++k) s += w[k] * yt[c / 2][k][0];
+    t[c] -= s;
   }
 }
 
@@ -169,43 +228,73 @@ inline void end_l(double* __restrict el, const double* __restrict node, int h, i
 // with b's own DB rows landing on the diagonal (symbolic.cpp: a == b comes first), of which only
 // the lower triangle is ever read: its upper DB(DB-1)/2 products are skipped, nearly half the
 // reduction of a column with one edge block (a chain's). Both sizes fixed at compile time make
-// each target row DB independent unrolled dot products. Returns the end of b's entry.
+// each target row DB independent unrolled dot products, two per vector (subtract_row).
+// Returns the end of b's entry.
 template <int N, int DB>
 inline const int32_t* reduce_runs(double* __restrict values, const double* __restrict e, const double* __restrict lb,
                                   const int32_t* runs, int n, int db) {
-  const int m = N ? N : n;
-  const int nb = DB ? DB : db;
   const int count = runs[0], ld = runs[1];
   runs += 2;
-  for (int i = 0; i < count; ++i, runs += 3) {
-    double* __restrict t = values + runs[0];
-    const double* er = e + runs[1] * m;
-    int r = 0;
-    if (i == 0)
-      LDLPGS_UNROLL for (; r < nb; ++r, t += ld, er += m)
-        LDLPGS_UNROLL for (int c = 0; c <= r; ++c) t[c] -= dot<N>(er, lb + c * m, m);
-    for (; r < runs[2]; ++r, t += ld, er += m)
-      LDLPGS_UNROLL for (int c = 0; c < nb; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+  if constexpr (N > 1 && DB > 0) {
+    V2 yt[(DB + 1) / 2][N];
+    pair_rows<N, DB>(lb, yt);
+    for (int i = 0; i < count; ++i, runs += 3) {
+      double* __restrict t = values + runs[0];
+      const double* er = e + runs[1] * N;
+      int r = 0;
+      if (i == 0)
+        LDLPGS_UNROLL for (; r < DB; ++r, t += ld, er += N) subtract_row<N>(t, er, yt, r + 1);
+      for (; r < runs[2]; ++r, t += ld, er += N) subtract_row<N>(t, er, yt, DB);
+    }
+  } else {
+    const int m = N ? N : n;
+    const int nb = DB ? DB : db;
+    for (int i = 0; i < count; ++i, runs += 3) {
+      double* __restrict t = values + runs[0];
+      const double* er = e + runs[1] * m;
+      int r = 0;
+      if (i == 0)
+        LDLPGS_UNROLL for (; r < nb; ++r, t += ld, er += m)
+          LDLPGS_UNROLL for (int c = 0; c <= r; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+      for (; r < runs[2]; ++r, t += ld, er += m)
+        LDLPGS_UNROLL for (int c = 0; c < nb; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+    }
   }
   return runs;
 }
 
 // A whole column with one edge block of DB rows whose product lands in one run on a target's
 // diagonal (a chain's pivot: the next one is its only neighbour), fused, both sizes fixed at
-// compile time: ldl_node, begin_l with h = DB and W on the stack, the DB(DB+1)/2 products of
-// the lower triangle subtracted at target (row stride ld), end_l. The same operations in the
-// same order as the general path, so the same values; fixed sizes unroll the row loops the
-// general path runs h times. Returns the first bad pivot, or -1.
+// compile time: ldl_node, begin_l with W on the stack and Y kept in pairs, the DB(DB+1)/2
+// products of the lower triangle subtracted at target (row stride ld), end_l on the pairs. The
+// same operations in the same order as the general path, so the same values; fixed sizes
+// unroll the row loops the general path runs h times. Returns the first bad pivot, or -1.
 template <int N, int DB>
 inline int eliminate_single(double* __restrict node, double* __restrict e, double* __restrict target, int ld,
                             const double* floor, double* __restrict inv_d) {
   const int bad = ldl_node<N>(node, floor, inv_d, N);
   if (bad >= 0) return bad;
-  double w[DB * N];
-  begin_l<N, DB>(e, w, node, inv_d, DB, N);
-  LDLPGS_UNROLL for (int r = 0; r < DB; ++r, target += ld)
-    LDLPGS_UNROLL for (int c = 0; c <= r; ++c) target[c] -= dot<N>(w + r * N, e + c * N, N);
-  end_l<N, DB>(e, node, DB, N);
+  constexpr int P = (DB + 1) / 2;
+  double w[P * 2 * N];  // W, row-major (a last odd row's copy in row DB)
+  V2 y[P][N];           // Y in pairs (pair_rows), then L
+  LDLPGS_UNROLL for (int p = 0; p < P; ++p) {
+    const double* e0 = e + 2 * p * N;
+    const double* e1 = 2 * p + 1 < DB ? e0 + N : e0;
+    V2 x[N];
+    LDLPGS_UNROLL for (int k = 0; k < N; ++k) x[k] = pair(e0, e1, k);
+    forward_unit<N>(node, x, N);
+    LDLPGS_UNROLL for (int c = 0; c < N; ++c) {
+      unpair(x[c], w + 2 * p * N, w + (2 * p + 1) * N, c);
+      y[p][c] = x[c] * inv_d[c];
+    }
+  }
+  LDLPGS_UNROLL for (int r = 0; r < DB; ++r, target += ld) subtract_row<N>(target, w + r * N, y, r + 1);
+  LDLPGS_UNROLL for (int p = 0; p < P; ++p) {
+    backward_unit<N>(node, y[p], N);
+    double* e0 = e + 2 * p * N;
+    LDLPGS_UNROLL for (int k = 0; k < N; ++k) e0[k] = y[p][k][0];
+    if (2 * p + 1 < DB) LDLPGS_UNROLL for (int k = 0; k < N; ++k) e0[N + k] = y[p][k][1];
+  }
   return -1;
 }
 using SingleFn = int (*)(double*, double*, double*, int, const double*, double*);
@@ -246,17 +335,26 @@ template <int N, int DB>
 inline void reduce_mapped(double* __restrict values, const double* __restrict e, const double* __restrict lb,
                           const int* __restrict rows, const int32_t* __restrict map, int first, int h, int column,
                           int n, int db) {
-  const int m = N ? N : n;
-  const int nb = DB ? DB : db;
-  const double* er = e + int64_t{first} * m;
-  int r = first;
-  LDLPGS_UNROLL for (int i = 0; i < nb; ++i, ++r, er += m) {
-    double* __restrict t = values + map[rows[r]] + column;
-    LDLPGS_UNROLL for (int c = 0; c <= i; ++c) t[c] -= dot<N>(er, lb + c * m, m);
-  }
-  for (; r < h; ++r, er += m) {
-    double* __restrict t = values + map[rows[r]] + column;
-    LDLPGS_UNROLL for (int c = 0; c < nb; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+  if constexpr (N > 1 && DB > 0) {
+    V2 yt[(DB + 1) / 2][N];
+    pair_rows<N, DB>(lb, yt);
+    const double* er = e + int64_t{first} * N;
+    int r = first;
+    LDLPGS_UNROLL for (int i = 0; i < DB; ++i, ++r, er += N) subtract_row<N>(values + map[rows[r]] + column, er, yt, i + 1);
+    for (; r < h; ++r, er += N) subtract_row<N>(values + map[rows[r]] + column, er, yt, DB);
+  } else {
+    const int m = N ? N : n;
+    const int nb = DB ? DB : db;
+    const double* er = e + int64_t{first} * m;
+    int r = first;
+    LDLPGS_UNROLL for (int i = 0; i < nb; ++i, ++r, er += m) {
+      double* __restrict t = values + map[rows[r]] + column;
+      LDLPGS_UNROLL for (int c = 0; c <= i; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+    }
+    for (; r < h; ++r, er += m) {
+      double* __restrict t = values + map[rows[r]] + column;
+      LDLPGS_UNROLL for (int c = 0; c < nb; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+    }
   }
 }
 // c points at C's column of b's first row, as for scatter_runs.
