@@ -372,21 +372,55 @@ inline void scatter_mapped(double* __restrict values, const double* __restrict c
   }
 }
 
-// Forward substitution through pivot k's column: y[rows[r]] -= L_r . y_k for each row r of L.
+// Forward substitution through pivot k's column: y[rows[r]] -= L_r . y_k for each row r of L,
+// two rows per vector with N fixed (each lane the scalar dot product in its order). y_k is none
+// of the rows written (they are later pivots' rows), so it is read once.
 template <int N>
 inline void forward_column(double* y, const double* yk, const double* l, const int* rows, int h, int n) {
   const int m = N ? N : n;
-  for (int r = 0; r < h; ++r) y[rows[r]] -= dot<N>(l + r * m, yk, m);
+  int r = 0;
+  if constexpr (N > 1) {
+    double x[N];
+    LDLPGS_UNROLL for (int k = 0; k < N; ++k) x[k] = yk[k];
+    for (; r + 2 <= h; r += 2) {
+      const double* l0 = l + r * N;
+      V2 s = {0, 0};
+      LDLPGS_UNROLL for (int k = 0; k < N; ++k) s += pair(l0, l0 + N, k) * x[k];
+      y[rows[r]] -= s[0];
+      y[rows[r + 1]] -= s[1];
+    }
+  }
+  for (; r < h; ++r) y[rows[r]] -= dot<N>(l + r * m, yk, m);
 }
 
-// Back substitution through pivot k's column: y_k -= L^T y[rows].
+// Back substitution through pivot k's column: y_k -= L^T y[rows], row by row in order; with N
+// fixed y_k is held in registers, two of its entries per vector.
 template <int N>
 inline void backward_column(const double* y, double* yk, const double* l, const int* rows, int h, int n) {
-  const int m = N ? N : n;
-  for (int r = 0; r < h; ++r) {
-    const double yr = y[rows[r]];
-    const double* lr = l + r * m;
-    LDLPGS_UNROLL for (int c = 0; c < m; ++c) yk[c] -= lr[c] * yr;
+  if constexpr (N > 1) {
+    constexpr int P = N / 2;
+    V2 x[P];
+    double last = N % 2 ? yk[N - 1] : 0;
+    LDLPGS_UNROLL for (int p = 0; p < P; ++p) __builtin_memcpy(&x[p], yk + 2 * p, sizeof x[p]);
+    for (int r = 0; r < h; ++r) {
+      const double yr = y[rows[r]];
+      const double* lr = l + r * N;
+      LDLPGS_UNROLL for (int p = 0; p < P; ++p) {
+        V2 lv;
+        __builtin_memcpy(&lv, lr + 2 * p, sizeof lv);
+        x[p] -= lv * yr;
+      }
+      if (N % 2) last -= lr[N - 1] * yr;
+    }
+    LDLPGS_UNROLL for (int p = 0; p < P; ++p) __builtin_memcpy(yk + 2 * p, &x[p], sizeof x[p]);
+    if (N % 2) yk[N - 1] = last;
+  } else {
+    const int m = N ? N : n;
+    for (int r = 0; r < h; ++r) {
+      const double yr = y[rows[r]];
+      const double* lr = l + r * m;
+      LDLPGS_UNROLL for (int c = 0; c < m; ++c) yk[c] -= lr[c] * yr;
+    }
   }
 }
 

@@ -120,10 +120,10 @@ TEST_P(Kernels, ZeroAndNonFinitePivotsStopTheBlock) {
 }
 
 TEST_P(Kernels, ColumnSubstitutionsMatchDenseProducts) {
-  const int d = GetParam(), h = 4;
+  const int d = GetParam(), h = 5;  // odd: the two-row kernels' pairs and their last row alone
   const RowMatrix l = RowMatrix::Random(h, d);
-  const std::vector<int> rows = {d, d + 2, d + 3, d + 5};  // rows of y below the pivot's d rows
-  Eigen::VectorXd y = Eigen::VectorXd::Random(d + 6), y0 = y;
+  const std::vector<int> rows = {d, d + 2, d + 3, d + 5, d + 6};  // rows of y below the pivot's d rows
+  Eigen::VectorXd y = Eigen::VectorXd::Random(d + 7), y0 = y;
   kernels::dispatch_size(d, [&](auto size) {
     kernels::forward_column<decltype(size)::value>(y.data(), y.data(), l.data(), rows.data(), h, d);
   });
