@@ -99,16 +99,16 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
   return -1;
 }
 
-// The substitutions with a factored node block (L D L^T in place, inv_d = 1 / D), per row x:
-// forward with the unit-lower L (x <- L^-1 x), back with L^T (x <- L^-T x); x <- N^-1 x is
-// forward, scale by D^-1, back.
-// Two rows at a time, one in each lane of a 2-vector (GCC's and clang's vector extension; on
-// x86-64 SSE2, the baseline every build has): begin_l, end_l and the reductions below do in each
-// lane the scalar operations of one row in the scalar order (a separate multiply and add or
-// subtract each, never fused: no build enables FMA), so the values are those of the row-by-row
-// kernels bit for bit, with about half the instructions. GCC 12 vectorized none of the scalar
-// forms: their dot products are ordered sums, which it may not reassociate. Chain-253 20.9 ->
-// 14.6 us, star-1265 140 -> 115 us (factor_bench, papers/factor.md "Two rows per instruction").
+// Two at a time, one in each lane of a 2-vector (GCC's and clang's vector extension; on x86-64
+// SSE2, the baseline every build has): begin_l and end_l take two rows of E, the reductions two
+// adjacent target columns (two rows of Y), the solve's column substitutions two rows of L or two
+// entries of y_k. Each lane does the scalar loop's operations in its order (a separate multiply
+// and add or subtract each, never fused: factor/CMakeLists.txt sets -ffp-contract=off), so the
+// values are those of the row-by-row loops bit for bit (kernels_test: KernelsPairs), with about
+// half the instructions. GCC 12 vectorized none of the scalar forms: their dot products are
+// ordered sums, which it may not reassociate. factor_bench on an AMD EPYC: chain-253 22.3 ->
+// 15.5 us, star-1265 149 -> 109 us, grid-1265's solve 156 -> 114 us (papers/factor.md "Two
+// rows per instruction").
 using V2 = double __attribute__((vector_size(16)));
 inline V2 pair(const double* x0, const double* x1, int k) { return V2{x0[k], x1[k]}; }
 inline void unpair(V2 x, double* x0, double* x1, int k) {
@@ -265,10 +265,11 @@ inline const int32_t* reduce_runs(double* __restrict values, const double* __res
 
 // A whole column with one edge block of DB rows whose product lands in one run on a target's
 // diagonal (a chain's pivot: the next one is its only neighbour), fused, both sizes fixed at
-// compile time: ldl_node, begin_l with W on the stack and Y kept in pairs, the DB(DB+1)/2
-// products of the lower triangle subtracted at target (row stride ld), end_l on the pairs. The
-// same operations in the same order as the general path, so the same values; fixed sizes
-// unroll the row loops the general path runs h times. Returns the first bad pivot, or -1.
+// compile time: ldl_node, begin_l's substitution with W on the stack and Y kept in pairs, the
+// DB(DB+1)/2 products of the lower triangle subtracted at target (row stride ld), end_l's on
+// the pairs. The same operations in the same order as the general path, so the same values;
+// fixed sizes unroll the row loops the general path runs h times. Returns the first bad pivot,
+// or -1.
 template <int N, int DB>
 inline int eliminate_single(double* __restrict node, double* __restrict e, double* __restrict target, int ld,
                             const double* floor, double* __restrict inv_d) {

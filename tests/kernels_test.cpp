@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -139,6 +140,98 @@ TEST_P(Kernels, ColumnSubstitutionsMatchDenseProducts) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Sizes, Kernels, ::testing::Values(1, 2, 3, 4, 5, 6, 7, 12));
+
+// The kernels work on two rows per instruction (kernels.h, V2) and claim the values of the
+// row-by-row scalar loops bit for bit. The reference: those loops, written out here in the
+// order the kernels document (products left operand first, sums from 0 with k ascending).
+double scalar_dot(const double* x, const double* y, int n) {
+  double s = 0;
+  for (int k = 0; k < n; ++k) s += x[k] * y[k];
+  return s;
+}
+bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+TEST(KernelsPairs, MatchTheScalarLoopsBitForBit) {
+  for (int d = 1; d <= 6; ++d)
+    for (int db = 1; db <= 6; ++db)
+      for (int h = db; h <= db + 5; ++h) {  // odd and even row counts
+        SCOPED_TRACE("pivot " + std::to_string(d) + ", block " + std::to_string(db) + ", rows " + std::to_string(h));
+        const RowMatrix n = random_spd(d, 7 * d + db);
+        const RowMatrix e0 = RowMatrix::Random(h, d);
+        const std::vector<double> floor(d, 0.0);
+        std::vector<double> node(n.data(), n.data() + d * d), inv_d(d);
+        kernels::dispatch_size(d, [&](auto size) { kernels::ldl_node<decltype(size)::value>(node.data(), floor.data(), inv_d.data(), d); });
+        // Scalar begin_l: w = L_kk^-1 e, y = w D^-1, row by row.
+        std::vector<double> y_ref(e0.data(), e0.data() + h * d), w_ref(h * d);
+        for (int r = 0; r < h; ++r) {
+          double* x = y_ref.data() + r * d;
+          for (int i = 1; i < d; ++i)
+            for (int k = 0; k < i; ++k) x[i] -= node[i * d + k] * x[k];
+          for (int c = 0; c < d; ++c) {
+            w_ref[r * d + c] = x[c];
+            x[c] *= inv_d[c];
+          }
+        }
+        // Scalar reduction of block b = rows [0, db) of Y into a target of stride ld: the
+        // diagonal's lower triangle, then db columns of the rows below; the rest untouched.
+        const int ld = db + 2;
+        const RowMatrix t0 = RowMatrix::Random(h, ld);
+        std::vector<double> t_ref(t0.data(), t0.data() + h * ld);
+        for (int r = 0; r < h; ++r)
+          for (int c = 0; c < (r < db ? r + 1 : db); ++c)
+            t_ref[r * ld + c] -= scalar_dot(w_ref.data() + r * d, y_ref.data() + c * d, d);
+        // Scalar end_l, and the solve's column substitutions through the finished L.
+        std::vector<double> l_ref = y_ref;
+        for (int r = 0; r < h; ++r) {
+          double* x = l_ref.data() + r * d;
+          for (int i = d - 2; i >= 0; --i)
+            for (int k = i + 1; k < d; ++k) x[i] -= node[k * d + i] * x[k];
+        }
+        std::vector<int> rows(h);
+        for (int r = 0; r < h; ++r) rows[r] = d + 2 * r;  // below the pivot's d rows, with gaps
+        const Eigen::VectorXd z0 = Eigen::VectorXd::Random(d + 2 * h);
+        std::vector<double> z_ref(z0.data(), z0.data() + z0.size());
+        for (int r = 0; r < h; ++r) z_ref[rows[r]] -= scalar_dot(l_ref.data() + r * d, z_ref.data(), d);
+        std::vector<double> zb_ref = z_ref;
+        for (int r = 0; r < h; ++r)
+          for (int c = 0; c < d; ++c) zb_ref[c] -= l_ref[r * d + c] * zb_ref[rows[r]];
+
+        std::vector<double> y(e0.data(), e0.data() + h * d), w(h * d), t(t0.data(), t0.data() + h * ld), tm = t;
+        std::vector<double> z(z0.data(), z0.data() + z0.size());
+        std::vector<int32_t> map(d + 2 * h);
+        for (int r = 0; r < h; ++r) map[rows[r]] = r * ld;  // target row r of the mapped form
+        const std::vector<int32_t> runs = {1, ld, 0, 0, h};
+        kernels::dispatch_size(d, [&](auto size) {
+          constexpr int N = decltype(size)::value;
+          kernels::begin_l<N>(y.data(), w.data(), node.data(), inv_d.data(), h, d);
+          EXPECT_TRUE(same_bits(w, w_ref));
+          EXPECT_TRUE(same_bits(y, y_ref));
+          kernels::dispatch_size(db, [&](auto size_b) {
+            constexpr int DB = decltype(size_b)::value;
+            kernels::reduce_runs<N, DB>(t.data(), w.data(), y.data(), runs.data(), d, db);
+            kernels::reduce_mapped<N, DB>(tm.data(), w.data(), y.data(), rows.data(), map.data(), 0, h, 0, d, db);
+          });
+          EXPECT_TRUE(same_bits(t, t_ref));
+          EXPECT_TRUE(same_bits(tm, t_ref));
+          kernels::end_l<N>(y.data(), node.data(), h, d);
+          EXPECT_TRUE(same_bits(y, l_ref));
+          kernels::forward_column<N>(z.data(), z.data(), y.data(), rows.data(), h, d);
+          EXPECT_TRUE(same_bits(z, z_ref));
+          kernels::backward_column<N>(z.data(), z.data(), y.data(), rows.data(), h, d);
+          EXPECT_TRUE(same_bits(z, zb_ref));
+        });
+        if (h == db) {  // one edge block landing on the diagonal: the fused column of a chain
+          std::vector<double> node_f(n.data(), n.data() + d * d), e(e0.data(), e0.data() + h * d),
+              tf(t0.data(), t0.data() + h * ld), inv_f(d);
+          ASSERT_EQ(kernels::kSingle[6 * (d - 1) + db - 1](node_f.data(), e.data(), tf.data(), ld, floor.data(), inv_f.data()), -1);
+          EXPECT_TRUE(same_bits(node_f, node));
+          EXPECT_TRUE(same_bits(e, l_ref));
+          EXPECT_TRUE(same_bits(tf, t_ref));
+        }
+      }
+}
 
 // The fused column of one edge block (a chain's pivot), for every pair of sizes: against dense
 // Eigen (L = E N^-1, target -= E N^-1 E^T on its lower triangle), and value for value against
