@@ -106,11 +106,10 @@ void begin_l(double* e, double* w, const double* node, const double* inv_d, int 
   }
 }
 
-void end_l(double* e, const double* node, int h, int n) { solve_rows("N", node, n, n, e, h, n); }
 
 void lower_product(const double* w, const double* y, int h, int n, double* c) { lower_gemm(1, w, n, y, n, h, n, 0, c, h); }
 
-// L is h x n row-major: BLAS's L' = L^T is n x h, so L y_t is dgemv('T') of L' and L^T z is
+// l (Y, the rows below the node) is h x n row-major: BLAS sees Y^T, n x h, so Y y_t is dgemv('T') and Y^T z is
 // dgemv('N'). The node's unit-lower L is BLAS's unit-upper U = L^T (solve_rows).
 void forward_column(double* y, const double* yt, const double* l, const int* rows, int h, int n, double* tmp) {
   if (h == 0) return;
@@ -120,10 +119,13 @@ void forward_column(double* y, const double* yt, const double* l, const int* row
   for (int r = 0; r < h; ++r) y[rows[r]] -= tmp[r];
 }
 
-void solve_node(const double* node, const double* inv_d, double* x, int n) {
+void forward_node(const double* node, double* x, int n) {
   const int inc = 1;
   dtrsv_("U", "T", "U", &n, node, &n, x, &inc);  // x <- L^-1 x
-  for (int i = 0; i < n; ++i) x[i] *= inv_d[i];
+}
+
+void backward_node(const double* node, double* x, int n) {
+  const int inc = 1;
   dtrsv_("U", "N", "U", &n, node, &n, x, &inc);  // x <- L^-T x
 }
 

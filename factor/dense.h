@@ -1,6 +1,6 @@
 #pragma once
-// The supernodal kernels: the same four steps as kernels.h (node LDL^T, W = E L^-T with
-// Y = W D^-1, the reduction's product, L = Y L^-1), for a supernode wide enough that level-3 BLAS
+// The supernodal kernels: the same three steps as kernels.h (node LDL^T, W = E L^-T with
+// Y = W D^-1 kept as the factor's rows below the node, the reduction's product), for a supernode wide enough that level-3 BLAS
 // (dtrsm, dgemm) beats the unrolled loops. Same layout as kernels.h: node block n x n row-major
 // (lower triangle read), E h x n row-major. A row-major m x n matrix with row stride ld is, to
 // column-major BLAS, its transpose n x m with leading dimension ld: every call below passes the
@@ -24,17 +24,17 @@ int ldl_blocked(double* a, int n, int ld, const double* floor, double* inv_d, do
 
 // W = E L^-T (into w, h x n row-major) and Y = W D^-1 (over e), node = L D L^T factored.
 void begin_l(double* e, double* w, const double* node, const double* inv_d, int h, int n);
-// L = Y L^-1 over Y (e).
-void end_l(double* e, const double* node, int h, int n);
 // The lower triangle of C = W Y^T (h x h row-major, into c), row panels of kRowPanel: the upper
 // triangle inside each diagonal panel is computed too (at most kRowPanel / h more flops) and
 // never read.
 void lower_product(const double* w, const double* y, int h, int n, double* c);
 
-// The solve's three steps (kernels.h forward_column, solve_node, backward_column) with dgemv and
-// dtrsv: y[rows] -= L y_t; x = N^-1 x; y_t -= L^T y[rows]. tmp: scratch of h doubles.
+// The solve's steps (kernels.h forward_unit, forward_column, backward_column, backward_unit) with
+// dtrsv and dgemv: x <- L^-1 x and x <- L^-T x with the node's unit-lower L; y[rows] -= Y y_t;
+// y_t -= Y^T y[rows] (Y: the h x n rows below the node). tmp: scratch of h doubles.
+void forward_node(const double* node, double* x, int n);
+void backward_node(const double* node, double* x, int n);
 void forward_column(double* y, const double* yt, const double* l, const int* rows, int h, int n, double* tmp);
-void solve_node(const double* node, const double* inv_d, double* x, int n);
 void backward_column(const double* y, double* yt, const double* l, const int* rows, int h, int n, double* tmp);
 
 }  // namespace ldlpgs::dense

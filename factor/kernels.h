@@ -101,8 +101,8 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
 
 // Two at a time, one in each lane of a 2-vector (GCC's and clang's vector extension; on x86-64
 // SSE2, the baseline every build has): begin_l and end_l take two rows of E, the reductions two
-// adjacent target columns (two rows of Y), the solve's column substitutions two rows of L or two
-// entries of y_k. Each lane does the scalar loop's operations in its order (a separate multiply
+// adjacent target columns (two rows of Y), the solve's column substitutions two rows of the
+// factor below the node or two entries of y_k. Each lane does the scalar loop's operations in its order (a separate multiply
 // and add or subtract each, never fused: factor/CMakeLists.txt sets -ffp-contract=off), so the
 // values are those of the row-by-row loops bit for bit (kernels_test: KernelsPairs), with about
 // half the instructions. GCC 12 vectorized none of the scalar forms: their dot products are
@@ -139,15 +139,19 @@ inline void solve_node(const double* a, const double* inv_d, double* x, int n) {
   backward_unit<N>(a, x, m);
 }
 
-// L_{*,k} = E_{*,k} N_k^-1 (the talk's computeL), in two halves around the reduction. Row r of L
-// solves N_k l^T = e_r^T by substitution with N_k's factors: w = L_kk^-1 e (forward), y = D^-1 w,
-// l = L_kk^-T y (back). The reduction's product is E L^T = E N^-1 E^T = W Y^T, so begin_l gives
-// it W (in w, the scratch) and Y (in el, over E), and end_l finishes L in place afterwards. On a
-// chain every pivot waits for the previous one's reduction: the back substitution (a chain of
-// d(d-1)/2 dependent multiply-subtracts per row) is then off that critical path, overlapping the
-// next pivot. Substitution, not the explicit inverse the talk multiplies by: with the inverse
-// the backward error of ladder and grid mechanisms grew from 2e-17 to 8e-14 (papers/factor.md).
-// el and w are h x d row-major; with N fixed, rows go in pairs (V2), an odd last one alone.
+// The column below a pivot (the talk's computeL): L_{*,k} = E_{*,k} N_k^-1 = Y L_kk^-1 with
+// Y = W D^-1 and W = E L_kk^-T, row by row w = L_kk^-1 e (forward substitution), y = D^-1 w.
+// begin_l gives the reduction its operands, W (in w, the scratch) and Y (over E), since
+// E L^T = E N^-1 E^T = W Y^T. Y = L_{*,k} L_kk is the scalar LDL^T's L below the node
+// (CHOLMOD's convention), and the factor keeps it there except in the fused chain column
+// (eliminate_single), whose end_l turns it into L_{*,k} (l = L_kk^-T y, back substitution):
+// the solve applies L_{*,k} z as Y (L_kk^-1 z), and L_kk^-1 z is the node's own forward
+// substitution, so Y costs the solve nothing but latency: L_kk^-1 z then stands between one
+// column and the next, which on a chain, where every column waits for the previous one, made
+// the solve 40 % slower (chain-253 5.0 -> 7.0 us), more than the factorization gained (numeric.h,
+// papers/factor.md "The factor keeps Y"). Substitution, not the explicit inverse the talk
+// multiplies by: with the inverse the backward error of ladder and grid mechanisms grew from
+// 2e-17 to 8e-14 (papers/factor.md).
 template <int N>
 inline void begin_l(double* __restrict el, double* __restrict w, const double* __restrict node,
                     const double* __restrict inv_d, int h, int n) {

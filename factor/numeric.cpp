@@ -314,14 +314,13 @@ FactorInfo Numeric::eliminate() {
         } else {
           for (int b = 0; b < m; ++b) rsi = kernels::scatter_runs(v, c + rows[b], rsi, h, sizes[b]);
         }
-        dense::end_l(e, node, h, d);
       }
     } else {
       kernels::dispatch_size(d, [&](auto size) {
         constexpr int N = decltype(size)::value;
         bad = kernels::ldl_node<N>(node, floor, inv_d, d);
         if (bad >= 0) return;
-        // S -= W Y^T with W in the scratch, Y over E, then L over Y (kernels::begin_l).
+        // S -= W Y^T with W in the scratch and Y over E, where it stays (kernels::begin_l).
         kernels::begin_l<N>(e, w, node, inv_d, h, d);
         if (st.kind == Kind::blocks_mapped) {
           const std::span<const int> col = s.supernode_edges(t);
@@ -343,7 +342,6 @@ FactorInfo Numeric::eliminate() {
             });
           }
         }
-        kernels::end_l<N>(e, node, h, d);
       });
     }
     if (bad >= 0) {
@@ -421,35 +419,49 @@ void Numeric::solve(double* b, int nrhs, int ld) {
     for (int i = 0; i < n; ++i) w[i] = x[perm[i]];
     if (scale_ != 0)  // (2^-e H)^-1 (2^-e b) = H^-1 b (prepare)
       for (int i = 0; i < n; ++i) w[i] = std::ldexp(w[i], -scale_);
-    // L z = b column by column (z_k is final once the earlier columns are applied), then
-    // N_k^-1 z_k, which no later column reads.
+    // H = L N L^T, column by column (z_k is final once the earlier columns are applied). Below a
+    // fused chain column the factor holds L_{*,k}: the rows below minus L_{*,k} z_k, then
+    // N_k^-1 z_k, which no later column reads. Elsewhere it holds Y_k = L_{*,k} L_kk (numeric.h):
+    // u = L_kk^-1 z_k, the rows below minus Y_k u (= L_{*,k} z_k), then D^-1 u.
     for (const Step& st : steps_) {
       const int d = st.d;
       double* wt = w + st.r0;
       const double* l = v + st.node + int64_t{d} * d;
+      const double* inv_d = inv_d_.data() + st.r0;
       if (st.kind == Kind::blas || st.kind == Kind::blas_mapped) {
+        dense::forward_node(v + st.node, wt, d);
         dense::forward_column(w, wt, l, st.erows, st.h, d, scratch_.data());
-        dense::solve_node(v + st.node, inv_d_.data() + st.r0, wt, d);
+        for (int i = 0; i < d; ++i) wt[i] *= inv_d[i];
         continue;
       }
       kernels::dispatch_size(d, [&](auto size) {
         constexpr int N = decltype(size)::value;
-        kernels::forward_column<N>(w, wt, l, st.erows, st.h, d);
-        kernels::solve_node<N>(v + st.node, inv_d_.data() + st.r0, wt, d);
+        if (st.kind == Kind::single) {
+          kernels::forward_column<N>(w, wt, l, st.erows, st.h, d);
+          kernels::solve_node<N>(v + st.node, inv_d, wt, d);
+        } else {
+          kernels::forward_unit<N>(v + st.node, wt, d);
+          kernels::forward_column<N>(w, wt, l, st.erows, st.h, d);
+          for (int i = 0; i < d; ++i) wt[i] *= inv_d[i];
+        }
       });
     }
-    // L^T x = y in reverse pivot order.
+    // Backward in reverse pivot order: x_k = N_k^-1 z_k - L_{*,k}^T x_below, which for Y_k is
+    // L_kk^-T (D^-1 u - Y_k^T x_below).
     for (auto it = steps_.rbegin(); it != steps_.rend(); ++it) {
       const Step& st = *it;
       const int d = st.d;
+      double* wt = w + st.r0;
       const double* l = v + st.node + int64_t{d} * d;
       if (st.kind == Kind::blas || st.kind == Kind::blas_mapped) {
-        dense::backward_column(w, w + st.r0, l, st.erows, st.h, d, scratch_.data());
+        dense::backward_column(w, wt, l, st.erows, st.h, d, scratch_.data());
+        dense::backward_node(v + st.node, wt, d);
         continue;
       }
       kernels::dispatch_size(d, [&](auto size) {
         constexpr int N = decltype(size)::value;
-        kernels::backward_column<N>(w, w + st.r0, l, st.erows, st.h, d);
+        kernels::backward_column<N>(w, wt, l, st.erows, st.h, d);
+        if (st.kind != Kind::single) kernels::backward_unit<N>(v + st.node, wt, d);
       });
     }
     for (int i = 0; i < n; ++i) x[perm[i]] = w[i];
@@ -475,10 +487,13 @@ SymmetricCsc Numeric::scalar_ldl() const {
         l.row_idx.push_back(r0 + r);
         l.values.push_back(node[r * d + c]);
       }
-      // Row r of the scalar L below the node: (L_{*,k} L_kk)[r][c], L_kk unit lower.
+      // Below the node the scalar L is Y = L_{*,k} L_kk: stored as it is, but for a fused
+      // chain column, which holds L_{*,k} (numeric.h).
+      const bool single = steps_[t].kind == Kind::single;
       for (int r = 0; r < h; ++r) {
         double sum = lb[r * d + c];
-        for (int m = c + 1; m < d; ++m) sum += lb[r * d + m] * node[m * d + c];
+        if (single)
+          for (int m = c + 1; m < d; ++m) sum += lb[r * d + m] * node[m * d + c];
         l.row_idx.push_back(rows[r]);
         l.values.push_back(sum);
       }

@@ -4,10 +4,14 @@
 //
 // Factorization, per pivot k in order (the talk's block Gaussian elimination):
 //   N_k = L_kk D_k L_kk^T in place; W = E_{*,k} L_kk^-T into a scratch buffer and Y = W D_k^-1
-//   over E; S -= E_{*,k} L_{*,k}^T = W Y^T through the RSI; L_{*,k} = Y L_kk^-1 = E_{*,k} N_k^-1
-//   over Y (kernels::begin_l, end_l).
+//   over E; S -= E_{*,k} L_{*,k}^T = W Y^T through the RSI (kernels::begin_l, reduce_runs).
 // The result is H = L N L^T with L block unit-lower and N = blockdiag(N_k), each N_k kept as its
-// own L_kk D_k L_kk^T. The scalar LDL^T (CHOLMOD's) is L_scalar = L blockdiag(L_kk), D = D_k.
+// own L_kk D_k L_kk^T. Below the node the factor keeps Y_k = L_{*,k} L_kk, which is the scalar
+// LDL^T's L there (CHOLMOD's: L_scalar = L blockdiag(L_kk), D = D_k), and the solve applies
+// L_{*,k} z as Y_k (L_kk^-1 z); forming L_{*,k} = Y_k L_kk^-1 would cost a back substitution per
+// row of E. The one exception is a fused chain column (kernels::eliminate_single), which keeps
+// L_{*,k} (kernels::end_l): there the solve's L_kk^-1 z would sit on the chain's critical path
+// (kernels.h, begin_l). scalar_ldl() expands either to CHOLMOD's convention.
 #include <cstdint>
 #include <span>
 #include <string>

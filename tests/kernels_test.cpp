@@ -56,6 +56,11 @@ TEST_P(Kernels, BeginAndEndLSolveAgainstTheNodeBlock) {
   const Eigen::MatrixXd ninv = Eigen::MatrixXd(n).inverse();
   const Eigen::MatrixXd expected = Eigen::MatrixXd(e) * ninv;
   EXPECT_LT((Eigen::MatrixXd(l) - expected).norm(), 1e-12 * expected.norm());
+  // Y, what a column of more than one edge block keeps (numeric.h): the scalar L = E N^-1 L_kk.
+  Eigen::MatrixXd lkk = Eigen::MatrixXd::Identity(d, d);
+  lkk.triangularView<Eigen::StrictlyLower>() = f.triangularView<Eigen::StrictlyLower>();
+  const Eigen::MatrixXd scalar_l = expected * lkk;
+  EXPECT_LT((Eigen::MatrixXd(y) - scalar_l).norm(), 1e-12 * scalar_l.norm());
   // The reduction's operands: W Y^T = E N^-1 E^T = E L^T.
   const Eigen::MatrixXd product = Eigen::MatrixXd(e) * ninv * Eigen::MatrixXd(e).transpose();
   EXPECT_LT((Eigen::MatrixXd(w) * Eigen::MatrixXd(y).transpose() - product).norm(), 1e-12 * product.norm());
