@@ -18,6 +18,7 @@
 #include "bench/competitors.h"
 #include "bench/ldlpgs_solver.h"
 #include "bench/median.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs::cli {
 
@@ -73,6 +74,7 @@ Command add_bench_command(CLI::App& app) {
     ProblemArgs problem;
     std::string ordering = "best";
     int dense_max = 1000;
+    std::string kernels = "auto";
     SymbolicOptions symbolic;
     bool json = false;
   };
@@ -81,6 +83,9 @@ Command add_bench_command(CLI::App& app) {
   add_problem_options(cmd, &o->problem);
   add_ordering_option(cmd, &o->ordering, "Ordering name (all solvers use its scalar permutation)");
   cmd->add_option("--dense-max", o->dense_max, "Largest dimension Eigen's dense LDLT is timed on")->capture_default_str();
+  cmd->add_option("--kernels", o->kernels, "Our kernels: auto (the best this CPU runs), sse2 or avx2 (factor/passes.h)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "sse2", "avx2"}));
   cmd->add_option("--supernode-min-rows", o->symbolic.supernode_min_rows,
                   "Rows from which a run of nested pivots is one supernode (0: none)")
       ->capture_default_str()
@@ -102,6 +107,11 @@ Command add_bench_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   add_json_flag(cmd, &o->json);
   return [o] {
+    try {
+      set_kernel_isa(o->kernels);
+    } catch (const ArgumentError& e) {
+      throw InputError("--kernels " + o->kernels + ": " + e.what());
+    }
     const OrderingInfo& info = find_ordering(o->ordering);
     const Problem p = load_problem(o->problem.spec, o->problem.blocks, o->problem.max_block, o->problem.split_blocks);
     const Ordering ordering = compute_ordering(info, p.blocks, p.a);
@@ -130,7 +140,7 @@ Command add_bench_command(CLI::App& app) {
                           {"ordering", ordering.name}, {"chosen", ordering.chosen}, {"flops", flops}, {"gflops", number_or_null(gflops)},
                           {"symbolic_bytes", ours->symbolic().memory_bytes()},
                           {"rsi_entries", ours->symbolic().rsi_size()}, {"supernodes", ours->symbolic().num_supernodes()}, {"mapped_supernodes", mapped_supernodes(ours->symbolic())},
-                          {"blas", blas}};
+                          {"blas", blas}, {"kernels", kernel_isa()}};
       // ours unprefixed, every other solver's fields prefixed with its name (null: not run)
       std::vector<std::string_view> names = {mine.name};
       names.insert(names.end(), direct_solver_names().begin(), direct_solver_names().end());
@@ -149,7 +159,7 @@ Command add_bench_command(CLI::App& app) {
       std::printf("%s: n = %d, %d blocks, ordering %s, %.0f flops, %d supernodes, symbolic phase holds %lld bytes\n",
                   p.name.c_str(), p.a.n, p.blocks.num_blocks(), shown_name(ordering).c_str(), flops,
                   ours->symbolic().num_supernodes(), static_cast<long long>(ours->symbolic().memory_bytes()));
-      std::printf("BLAS (ours for supernodes, CHOLMOD supernodal): %s\n", blas.c_str());
+      std::printf("BLAS (ours for supernodes, CHOLMOD supernodal): %s; our kernels: %s\n", blas.c_str(), kernel_isa());
       std::printf("%-20s %12s %12s %12s %14s %16s\n", "solver", "factor us", "solve us", "GFlop/s",
                   "backward err", "fact+solve ratio");
       for (const Timing& t : timings) {

@@ -33,6 +33,9 @@
 // reference BLAS makes it several times slower than OpenBLAS (papers/factor.md); build.sh installs
 // OpenBLAS's serial build. Ours, CHOLMOD simplicial and Eigen call no BLAS.
 //
+// Ours runs the kernels the CPU allows (context "kernels": avx2 or sse2, factor/passes.h); where
+// that is AVX2, "ldlpgs-sse2" times the same factorization with the SSE2 build of the kernels.
+//
 // Names end in the problem (<family>-<constraints> or the matrix's file name), so a regex such
 // as --benchmark_filter='heavy-22|chain-63' selects problems and 'factor/ldlpgs/' a solver.
 //
@@ -58,6 +61,7 @@
 #include "bench/test_matrix_files.h"
 #include "bench/competitors.h"
 #include "bench/ldlpgs_solver.h"
+#include "ldlpgs/factor/numeric.h"
 #include "ldlpgs/factor/symbolic.h"
 #include "ldlpgs/ordering/ordering.h"
 #include "ldlpgs/sparse/block_pattern.h"
@@ -129,7 +133,12 @@ Prepared prepare(std::unique_ptr<DirectSolver> solver, const Problem& p) {
   return s;
 }
 
+// "ldlpgs-sse2": ours with the baseline's kernels (set_kernel_isa), registered where the default
+// ones are AVX2, so that one run compares the two builds of the same factorization.
+constexpr std::string_view kSse2 = "ldlpgs-sse2";
+
 Prepared& prepared(Problem& p, std::string_view solver) {
+  if (solver == kSse2) solver = "ldlpgs";
   if (!p.ordering) {
     p.ordering = compute_ordering(find_ordering(kOrdering), p.blocks, p.a);
     auto ours = std::make_unique<LdlpgsSolver>(p.a, p.blocks, *p.ordering);
@@ -162,6 +171,7 @@ void bench(benchmark::State& state, Problem* p, const std::string& solver, Phase
   }
   std::vector<double> x(p->a.n);
   DirectSolver& d = *s->solver;
+  if (solver == kSse2) set_kernel_isa("sse2");
   for (auto _ : state) {
     if (phase != Phase::solve && !d.factor()) {
       state.SkipWithError("the factorization failed where its first call succeeded");
@@ -177,6 +187,7 @@ void bench(benchmark::State& state, Problem* p, const std::string& solver, Phase
     }
     benchmark::ClobberMemory();
   }
+  set_kernel_isa("auto");
 
   const double timed_flops =
       (phase != Phase::solve ? p->factor_flops : 0) + (phase != Phase::factor ? p->solve_flops : 0);
@@ -203,6 +214,7 @@ void register_problem(Problem&& made) {
   Problem& p = problems().emplace_back(std::move(made));
   p.b = rhs(p.a.n);
   std::vector<std::string> solvers = {"ldlpgs"};
+  if (std::string_view(kernel_isa()) != "sse2") solvers.emplace_back(kSse2);
   for (std::string_view name : direct_solver_names()) {
     if (name != kDense || p.a.n <= kDenseMaxRows) solvers.emplace_back(name);
   }
@@ -281,6 +293,7 @@ int main(int argc, char** argv) {
   }
   if (!register_matrices()) return 1;
   benchmark::AddCustomContext("blas", blas_in_use());
+  benchmark::AddCustomContext("kernels", kernel_isa());
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

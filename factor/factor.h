@@ -9,6 +9,8 @@
 //   numeric.h   Numeric: factorize (regularization eps diag(H), status, inertia), solve with one
 //               or many right-hand sides, the factor in CHOLMOD's scalar convention. Every frame.
 //   kernels.h   the per-pivot kernels templated on the block size 1..6, generic path above.
+//   passes.h    the elimination and the solve's two passes over the supernodes, built twice
+//               (SSE2 and AVX2 kernels: 2 or 4 lanes) and chosen by the CPU (kernel_isa()).
 //   dense.h     the same steps for wide supernodes with level-3 BLAS (dtrsm, dgemm).
 //   verify.h    the factor against CHOLMOD's simplicial LDL^T and the backward error of both.
 //   block_ldlt.h BlockLDLT: both phases behind Eigen's sparse-solver interface, for users who

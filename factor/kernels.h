@@ -17,7 +17,20 @@
 // is unrolled by 8 with a remainder; the loops over rows of E (h) carry no pragma (begin_l).
 #define LDLPGS_UNROLL _Pragma("GCC unroll 8")
 
+// Two builds of these kernels live in the library (factor/passes.h): the x86-64 baseline (SSE2,
+// 2 lanes per vector) and, compiled with -mavx2 and LDLPGS_KERNELS_AVX2, 4 lanes, chosen at run
+// time by the CPU. Each build is its own inline namespace, so the two sets of inline functions
+// never merge at link time (an AVX2 copy of an inline kernel must not serve the SSE2 caller).
+#ifdef LDLPGS_KERNELS_AVX2
+#define LDLPGS_KERNELS_ISA avx2
+#define LDLPGS_LANES 4
+#else
+#define LDLPGS_KERNELS_ISA sse2
+#define LDLPGS_LANES 2
+#endif
+
 namespace ldlpgs::kernels {
+inline namespace LDLPGS_KERNELS_ISA {
 
 // Calls f(std::integral_constant<int, N>) with N = d for d in 1..6, N = 0 otherwise: the switch
 // on the pivot's size that picks the unrolled kernel (Ceres small_blas.h does the same).
@@ -99,25 +112,41 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
   return -1;
 }
 
-// Two at a time, one in each lane of a 2-vector (GCC's and clang's vector extension; on x86-64
-// SSE2, the baseline every build has): begin_l and end_l take two rows of E, the reductions two
-// adjacent target columns (two rows of Y), the solve's column substitutions two rows of the
-// factor below the node or two entries of y_k. Each lane does the scalar loop's operations in its order (a separate multiply
+// Several at a time, one in each lane of a vector (GCC's and clang's vector extension): V of
+// kLanes lanes (2 with SSE2, the x86-64 baseline every build has; 4 in the AVX2 build), V2 for a
+// remainder of two. begin_l and end_l take kLanes rows of E, the reductions kLanes adjacent target
+// columns (rows of Y), the solve's column substitutions kLanes rows of the factor below the node
+// or entries of y_k. Each lane does the scalar loop's operations in its order (a separate multiply
 // and add or subtract each, never fused: factor/CMakeLists.txt sets -ffp-contract=off), so the
-// values are those of the row-by-row loops bit for bit (kernels_test: KernelsPairs), with about
-// half the instructions. GCC 12 vectorized none of the scalar forms: their dot products are
-// ordered sums, which it may not reassociate. factor_bench on an AMD EPYC: chain-253 22.3 ->
-// 15.5 us, star-1265 149 -> 109 us, grid-1265's solve 156 -> 114 us (papers/factor.md "Two
-// rows per instruction").
+// values are those of the row-by-row loops bit for bit, in either build (kernels_test:
+// KernelsPairs, compiled once per build; numeric_test: FactorHarness, against the SSE2 build). GCC 12 vectorized none of the
+// scalar forms: their dot products are ordered sums, which it may not reassociate. factor_bench on
+// an AMD EPYC, 2 lanes: chain-253 22.3 -> 15.5 us, star-1265 149 -> 109 us, grid-1265's solve
+// 156 -> 114 us; 4 lanes: papers/factor.md "Four lanes with AVX2".
+inline constexpr int kLanes = LDLPGS_LANES;
+using V = double __attribute__((vector_size(8 * LDLPGS_LANES)));
 using V2 = double __attribute__((vector_size(16)));
-inline V2 pair(const double* x0, const double* x1, int k) { return V2{x0[k], x1[k]}; }
-inline void unpair(V2 x, double* x0, double* x1, int k) {
-  x0[k] = x[0];
-  x1[k] = x[1];
+// Lane i of the pack holds x[i stride + k]; scatter writes the lanes back.
+template <class T>
+inline T gather(const double* x, int stride, int k) {
+  T v = {};  // (every lane is set: the zeros cost nothing, and GCC warns of a read without them)
+  LDLPGS_UNROLL for (int i = 0; i < int{sizeof(T) / sizeof(double)}; ++i) v[i] = x[i * stride + k];
+  return v;
+}
+// Lane i holds x[(first + i) stride + k] of rows up to DB - 1; lanes past it repeat row DB - 1.
+template <int DB>
+inline V gather_rows(const double* x, int stride, int first, int k) {
+  V v = {};
+  LDLPGS_UNROLL for (int i = 0; i < kLanes; ++i) v[i] = x[(first + i < DB ? first + i : DB - 1) * stride + k];
+  return v;
+}
+template <class T>
+inline void scatter(T v, double* x, int stride, int k) {
+  LDLPGS_UNROLL for (int i = 0; i < int{sizeof(T) / sizeof(double)}; ++i) x[i * stride + k] = v[i];
 }
 
 // The substitutions with a factored node block (L D L^T in place, inv_d = 1 / D), per row x (T
-// double) or pair of rows (T V2): forward with the unit-lower L (x <- L^-1 x), back with L^T
+// double) or pack of rows (T V or V2): forward with the unit-lower L (x <- L^-1 x), back with L^T
 // (x <- L^-T x); x <- N^-1 x is forward, scale by D^-1, back.
 template <int N, class T>
 inline void forward_unit(const double* a, T* x, int n) {
@@ -152,21 +181,35 @@ inline void solve_node(const double* a, const double* inv_d, double* x, int n) {
 // papers/factor.md "The factor keeps Y"). Substitution, not the explicit inverse the talk
 // multiplies by: with the inverse the backward error of ladder and grid mechanisms grew from
 // 2e-17 to 8e-14 (papers/factor.md).
+// One pack of rows (as many as T has lanes) of begin_l and end_l.
+template <int N, class T>
+inline void begin_pack(double* __restrict y, double* __restrict w, const double* __restrict node,
+                       const double* __restrict inv_d) {
+  T x[N];
+  LDLPGS_UNROLL for (int c = 0; c < N; ++c) x[c] = gather<T>(y, N, c);
+  forward_unit<N>(node, x, N);
+  LDLPGS_UNROLL for (int c = 0; c < N; ++c) {
+    scatter(x[c], w, N, c);
+    scatter(x[c] * inv_d[c], y, N, c);
+  }
+}
+template <int N, class T>
+inline void end_pack(double* __restrict y, const double* __restrict node) {
+  T x[N];
+  LDLPGS_UNROLL for (int c = 0; c < N; ++c) x[c] = gather<T>(y, N, c);
+  backward_unit<N>(node, x, N);
+  LDLPGS_UNROLL for (int c = 0; c < N; ++c) scatter(x[c], y, N, c);
+}
 template <int N>
 inline void begin_l(double* __restrict el, double* __restrict w, const double* __restrict node,
                     const double* __restrict inv_d, int h, int n) {
   const int m = N ? N : n;
   int r = 0;
   if constexpr (N > 0) {
-    for (; r + 2 <= h; r += 2) {
-      double *y0 = el + r * N, *y1 = y0 + N, *w0 = w + r * N, *w1 = w0 + N;
-      V2 x[N];
-      LDLPGS_UNROLL for (int c = 0; c < N; ++c) x[c] = pair(y0, y1, c);
-      forward_unit<N>(node, x, N);
-      LDLPGS_UNROLL for (int c = 0; c < N; ++c) {
-        unpair(x[c], w0, w1, c);
-        unpair(x[c] * inv_d[c], y0, y1, c);
-      }
+    for (; r + kLanes <= h; r += kLanes) begin_pack<N, V>(el + r * N, w + r * N, node, inv_d);
+    if (kLanes > 2 && r + 2 <= h) {
+      begin_pack<N, V2>(el + r * N, w + r * N, node, inv_d);
+      r += 2;
     }
   }
   for (; r < h; ++r) {
@@ -183,44 +226,41 @@ inline void end_l(double* __restrict el, const double* __restrict node, int h, i
   const int m = N ? N : n;
   int r = 0;
   if constexpr (N > 0) {
-    for (; r + 2 <= h; r += 2) {
-      double *y0 = el + r * N, *y1 = y0 + N;
-      V2 x[N];
-      LDLPGS_UNROLL for (int c = 0; c < N; ++c) x[c] = pair(y0, y1, c);
-      backward_unit<N>(node, x, N);
-      LDLPGS_UNROLL for (int c = 0; c < N; ++c) unpair(x[c], y0, y1, c);
+    for (; r + kLanes <= h; r += kLanes) end_pack<N, V>(el + r * N, node);
+    if (kLanes > 2 && r + 2 <= h) {
+      end_pack<N, V2>(el + r * N, node);
+      r += 2;
     }
   }
   for (; r < h; ++r) backward_unit<N>(node, el + r * m, m);
 }
 
-// The rows of an edge block's Y (DB rows of N) in pairs for the reductions: yt[p][k] =
-// (Y_{2p,k}, Y_{2p+1,k}); an odd last row repeats in lane 1, which is never used.
+// The rows of an edge block's Y (DB rows of N) in packs for the reductions: yt[p][k] lane i =
+// Y_{kLanes p + i, k}; lanes past the last row repeat it and are never stored.
 template <int N, int DB>
-inline void pair_rows(const double* y, V2 (*yt)[N]) {
-  LDLPGS_UNROLL for (int p = 0; p < (DB + 1) / 2; ++p) {
-    const double* y0 = y + 2 * p * N;
-    const double* y1 = 2 * p + 1 < DB ? y0 + N : y0;
-    LDLPGS_UNROLL for (int k = 0; k < N; ++k) yt[p][k] = pair(y0, y1, k);
-  }
+inline void pack_rows(const double* y, V (*yt)[N]) {
+  LDLPGS_UNROLL for (int p = 0; p < (DB + kLanes - 1) / kLanes; ++p)
+    LDLPGS_UNROLL for (int k = 0; k < N; ++k) yt[p][k] = gather_rows<DB>(y, N, kLanes * p, k);
 }
-// t[c] -= w . Y_c for c < cols (<= DB): two adjacent target entries per vector, each lane the
-// scalar dot product's sum in its order (from 0, k ascending), then one subtraction.
+// t[c] -= w . Y_c for c < cols (<= DB): kLanes adjacent target entries per vector, each lane the
+// scalar dot product's sum in its order (from 0, k ascending), then one subtraction; of a last,
+// partial pack only the lanes below cols are stored.
 template <int N>
-inline void subtract_row(double* __restrict t, const double* __restrict w, const V2 (*yt)[N], int cols) {
+inline void subtract_row(double* __restrict t, const double* __restrict w, const V (*yt)[N], int cols) {
   int c = 0;
-  LDLPGS_UNROLL for (; c + 2 <= cols; c += 2) {
-    V2 s = {0, 0};
-    LDLPGS_UNROLL for (int k = 0; k < N; ++k) s += w[k] * yt[c / 2][k];
-    V2 x;
+  LDLPGS_UNROLL for (; c + kLanes <= cols; c += kLanes) {
+    V s = {};
+    LDLPGS_UNROLL for (int k = 0; k < N; ++k) s += w[k] * yt[c / kLanes][k];
+    V x;
     __builtin_memcpy(&x, t + c, sizeof x);
     x -= s;
     __builtin_memcpy(t + c, &x, sizeof x);
   }
   if (c < cols) {
-    double s = 0;
-    LDLPGS_UNROLL for (int k = 0; k < N; ++k) s += w[k] * yt[c / 2][k][0];
-    t[c] -= s;
+    V s = {};
+    LDLPGS_UNROLL for (int k = 0; k < N; ++k) s += w[k] * yt[c / kLanes][k];
+    LDLPGS_UNROLL for (int i = 0; i < kLanes; ++i)
+      if (c + i < cols) t[c + i] -= s[i];
   }
 }
 
@@ -232,7 +272,7 @@ inline void subtract_row(double* __restrict t, const double* __restrict w, const
 // with b's own DB rows landing on the diagonal (symbolic.cpp: a == b comes first), of which only
 // the lower triangle is ever read: its upper DB(DB-1)/2 products are skipped, nearly half the
 // reduction of a column with one edge block (a chain's). Both sizes fixed at compile time make
-// each target row DB independent unrolled dot products, two per vector (subtract_row).
+// each target row DB independent unrolled dot products, kLanes per vector (subtract_row).
 // Returns the end of b's entry.
 template <int N, int DB>
 inline const int32_t* reduce_runs(double* __restrict values, const double* __restrict e, const double* __restrict lb,
@@ -240,8 +280,8 @@ inline const int32_t* reduce_runs(double* __restrict values, const double* __res
   const int count = runs[0], ld = runs[1];
   runs += 2;
   if constexpr (N > 1 && DB > 0) {
-    V2 yt[(DB + 1) / 2][N];
-    pair_rows<N, DB>(lb, yt);
+    V yt[(DB + kLanes - 1) / kLanes][N];
+    pack_rows<N, DB>(lb, yt);
     for (int i = 0; i < count; ++i, runs += 3) {
       double* __restrict t = values + runs[0];
       const double* er = e + runs[1] * N;
@@ -269,9 +309,9 @@ inline const int32_t* reduce_runs(double* __restrict values, const double* __res
 
 // A whole column with one edge block of DB rows whose product lands in one run on a target's
 // diagonal (a chain's pivot: the next one is its only neighbour), fused, both sizes fixed at
-// compile time: ldl_node, begin_l's substitution with W on the stack and Y kept in pairs, the
+// compile time: ldl_node, begin_l's substitution with W on the stack and Y kept in packs, the
 // DB(DB+1)/2 products of the lower triangle subtracted at target (row stride ld), end_l's on
-// the pairs. The same operations in the same order as the general path, so the same values;
+// the packs. The same operations in the same order as the general path, so the same values;
 // fixed sizes unroll the row loops the general path runs h times. Returns the first bad pivot,
 // or -1.
 template <int N, int DB>
@@ -279,26 +319,23 @@ inline int eliminate_single(double* __restrict node, double* __restrict e, doubl
                             const double* floor, double* __restrict inv_d) {
   const int bad = ldl_node<N>(node, floor, inv_d, N);
   if (bad >= 0) return bad;
-  constexpr int P = (DB + 1) / 2;
-  double w[P * 2 * N];  // W, row-major (a last odd row's copy in row DB)
-  V2 y[P][N];           // Y in pairs (pair_rows), then L
+  constexpr int P = (DB + kLanes - 1) / kLanes;
+  double w[P * kLanes * N];  // W, row-major (rows past DB repeat the last)
+  V y[P][N];                 // Y in packs (pack_rows), then L
   LDLPGS_UNROLL for (int p = 0; p < P; ++p) {
-    const double* e0 = e + 2 * p * N;
-    const double* e1 = 2 * p + 1 < DB ? e0 + N : e0;
-    V2 x[N];
-    LDLPGS_UNROLL for (int k = 0; k < N; ++k) x[k] = pair(e0, e1, k);
+    V x[N];
+    LDLPGS_UNROLL for (int k = 0; k < N; ++k) x[k] = gather_rows<DB>(e, N, kLanes * p, k);
     forward_unit<N>(node, x, N);
     LDLPGS_UNROLL for (int c = 0; c < N; ++c) {
-      unpair(x[c], w + 2 * p * N, w + (2 * p + 1) * N, c);
+      scatter(x[c], w + kLanes * p * N, N, c);
       y[p][c] = x[c] * inv_d[c];
     }
   }
   LDLPGS_UNROLL for (int r = 0; r < DB; ++r, target += ld) subtract_row<N>(target, w + r * N, y, r + 1);
   LDLPGS_UNROLL for (int p = 0; p < P; ++p) {
     backward_unit<N>(node, y[p], N);
-    double* e0 = e + 2 * p * N;
-    LDLPGS_UNROLL for (int k = 0; k < N; ++k) e0[k] = y[p][k][0];
-    if (2 * p + 1 < DB) LDLPGS_UNROLL for (int k = 0; k < N; ++k) e0[N + k] = y[p][k][1];
+    LDLPGS_UNROLL for (int i = 0; i < kLanes; ++i)
+      if (kLanes * p + i < DB) LDLPGS_UNROLL for (int k = 0; k < N; ++k) e[(kLanes * p + i) * N + k] = y[p][k][i];
   }
   return -1;
 }
@@ -341,8 +378,8 @@ inline void reduce_mapped(double* __restrict values, const double* __restrict e,
                           const int* __restrict rows, const int32_t* __restrict map, int first, int h, int column,
                           int n, int db) {
   if constexpr (N > 1 && DB > 0) {
-    V2 yt[(DB + 1) / 2][N];
-    pair_rows<N, DB>(lb, yt);
+    V yt[(DB + kLanes - 1) / kLanes][N];
+    pack_rows<N, DB>(lb, yt);
     const double* er = e + int64_t{first} * N;
     int r = first;
     LDLPGS_UNROLL for (int i = 0; i < DB; ++i, ++r, er += N) subtract_row<N>(values + map[rows[r]] + column, er, yt, i + 1);
@@ -378,8 +415,14 @@ inline void scatter_mapped(double* __restrict values, const double* __restrict c
 }
 
 // Forward substitution through pivot k's column: y[rows[r]] -= L_r . y_k for each row r of L,
-// two rows per vector with N fixed (each lane the scalar dot product in its order). y_k is none
+// kLanes rows per vector (then a pair) with N fixed (each lane the scalar dot product in its order). y_k is none
 // of the rows written (they are later pivots' rows), so it is read once.
+template <int N, class T>
+inline void forward_pack(double* y, const double* x, const double* l, const int* rows) {
+  T s = {};
+  LDLPGS_UNROLL for (int k = 0; k < N; ++k) s += gather<T>(l, N, k) * x[k];
+  LDLPGS_UNROLL for (int i = 0; i < int{sizeof(T) / sizeof(double)}; ++i) y[rows[i]] -= s[i];
+}
 template <int N>
 inline void forward_column(double* y, const double* yk, const double* l, const int* rows, int h, int n) {
   const int m = N ? N : n;
@@ -387,38 +430,44 @@ inline void forward_column(double* y, const double* yk, const double* l, const i
   if constexpr (N > 1) {
     double x[N];
     LDLPGS_UNROLL for (int k = 0; k < N; ++k) x[k] = yk[k];
-    for (; r + 2 <= h; r += 2) {
-      const double* l0 = l + r * N;
-      V2 s = {0, 0};
-      LDLPGS_UNROLL for (int k = 0; k < N; ++k) s += pair(l0, l0 + N, k) * x[k];
-      y[rows[r]] -= s[0];
-      y[rows[r + 1]] -= s[1];
+    for (; r + kLanes <= h; r += kLanes) forward_pack<N, V>(y, x, l + r * N, rows + r);
+    if (kLanes > 2 && r + 2 <= h) {
+      forward_pack<N, V2>(y, x, l + r * N, rows + r);
+      r += 2;
     }
   }
   for (; r < h; ++r) y[rows[r]] -= dot<N>(l + r * m, yk, m);
 }
 
 // Back substitution through pivot k's column: y_k -= L^T y[rows], row by row in order; with N
-// fixed y_k is held in registers, two of its entries per vector.
+// fixed y_k is held in registers, kLanes of its entries per vector, then a pair, then one.
 template <int N>
 inline void backward_column(const double* y, double* yk, const double* l, const int* rows, int h, int n) {
   if constexpr (N > 1) {
-    constexpr int P = N / 2;
-    V2 x[P];
-    double last = N % 2 ? yk[N - 1] : 0;
-    LDLPGS_UNROLL for (int p = 0; p < P; ++p) __builtin_memcpy(&x[p], yk + 2 * p, sizeof x[p]);
+    constexpr int P = N / kLanes, Q = N % kLanes >= 2, R = N % 2;  // packs, a pair, a last entry
+    V x[P > 0 ? P : 1];
+    V2 x2 = {};
+    double last = R ? yk[N - 1] : 0;
+    LDLPGS_UNROLL for (int p = 0; p < P; ++p) __builtin_memcpy(&x[p], yk + kLanes * p, sizeof x[p]);
+    if (Q) __builtin_memcpy(&x2, yk + kLanes * P, sizeof x2);
     for (int r = 0; r < h; ++r) {
       const double yr = y[rows[r]];
       const double* lr = l + r * N;
       LDLPGS_UNROLL for (int p = 0; p < P; ++p) {
-        V2 lv;
-        __builtin_memcpy(&lv, lr + 2 * p, sizeof lv);
+        V lv;
+        __builtin_memcpy(&lv, lr + kLanes * p, sizeof lv);
         x[p] -= lv * yr;
       }
-      if (N % 2) last -= lr[N - 1] * yr;
+      if (Q) {
+        V2 lv;
+        __builtin_memcpy(&lv, lr + kLanes * P, sizeof lv);
+        x2 -= lv * yr;
+      }
+      if (R) last -= lr[N - 1] * yr;
     }
-    LDLPGS_UNROLL for (int p = 0; p < P; ++p) __builtin_memcpy(yk + 2 * p, &x[p], sizeof x[p]);
-    if (N % 2) yk[N - 1] = last;
+    LDLPGS_UNROLL for (int p = 0; p < P; ++p) __builtin_memcpy(yk + kLanes * p, &x[p], sizeof x[p]);
+    if (Q) __builtin_memcpy(yk + kLanes * P, &x2, sizeof x2);
+    if (R) yk[N - 1] = last;
   } else {
     const int m = N ? N : n;
     for (int r = 0; r < h; ++r) {
@@ -429,6 +478,7 @@ inline void backward_column(const double* y, double* yk, const double* l, const 
   }
 }
 
+}  // namespace LDLPGS_KERNELS_ISA
 }  // namespace ldlpgs::kernels
 
 #undef LDLPGS_UNROLL

@@ -12,8 +12,7 @@
 
 #include "ldlpgs/sparse/error.h"
 
-#include "ldlpgs/factor/dense.h"
-#include "ldlpgs/factor/kernels.h"
+#include "ldlpgs/factor/passes.h"
 
 namespace ldlpgs {
 
@@ -37,11 +36,52 @@ std::string FactorInfo::message() const {
 }
 
 namespace {
+#ifdef LDLPGS_HAVE_AVX2_PASSES
+// (__builtin_cpu_init: the first call may come from a static initializer, before libgcc's.)
+bool cpu_has_avx2() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2");
+}
+#else
+bool cpu_has_avx2() { return false; }
+#endif
+const passes::Passes* best_passes() {
+#ifdef LDLPGS_HAVE_AVX2_PASSES
+  if (cpu_has_avx2()) return &passes::kAvx2;
+#endif
+  return &passes::kSse2;
+}
+// The passes in use: a function's static, so that a factorization in another translation unit's
+// static initializer finds them set.
+const passes::Passes*& current_passes() {
+  static const passes::Passes* p = best_passes();
+  return p;
+}
+
 // 1 if x is NaN or infinite, else 0: an IEEE double is so exactly when its 11 exponent bits are
 // all ones. OR-ed over many values (latency 1) instead of a branch per entry or a floating-point
 // sum (its 4-cycle chain made the load a fifth of a small factorization).
 inline uint64_t not_finite_bit(double x) { return (((std::bit_cast<uint64_t>(x) >> 52) & 0x7ff) + 1) >> 11; }
 }  // namespace
+
+const char* kernel_isa() { return current_passes()->isa; }
+
+void set_kernel_isa(const std::string& isa) {
+  if (isa == "auto") {
+    current_passes() = best_passes();
+  } else if (isa == "sse2") {
+    current_passes() = &passes::kSse2;
+  } else if (isa == "avx2") {
+#ifdef LDLPGS_HAVE_AVX2_PASSES
+    if (!cpu_has_avx2()) throw ArgumentError("kernels: this CPU has no AVX2");
+    current_passes() = &passes::kAvx2;
+#else
+    throw ArgumentError("kernels: this build has no AVX2 kernels");
+#endif
+  } else {
+    throw ArgumentError("kernels: unknown '" + isa + "' (auto, sse2, avx2)");
+  }
+}
 
 Numeric::Numeric(const Symbolic& symbolic)
     : symbolic_(&symbolic),
@@ -55,8 +95,9 @@ Numeric::Numeric(const Symbolic& symbolic)
   const Symbolic& s = symbolic;
   steps_.resize(s.num_supernodes());
   diag_pos_.reserve(s.num_rows());
+  using passes::Kind;
   for (int t = 0; t < s.num_supernodes(); ++t) {
-    Step& st = steps_[t];
+    passes::Step& st = steps_[t];
     st.node = s.node_offset(t);
     st.rsi = s.rsi(t);
     st.rows = s.edge_rows(t);
@@ -67,6 +108,7 @@ Numeric::Numeric(const Symbolic& symbolic)
     st.r0 = s.supernode_row_start(t);
     st.m = static_cast<int>(s.supernode_edges(t).size());
     st.single = 0;
+    st.targets = st.columns = nullptr;
     if (s.supernode_blas(t)) {
       st.kind = s.supernode_mapped(t) ? Kind::blas_mapped : Kind::blas;
     } else if (s.supernode_mapped(t)) {
@@ -78,14 +120,27 @@ Numeric::Numeric(const Symbolic& symbolic)
     } else {
       st.kind = Kind::blocks;
     }
+    if (st.kind == Kind::blocks_mapped || st.kind == Kind::blas_mapped)
+      for (const int b : s.supernode_edges(t)) {
+        const int u = s.supernode_of(b);
+        edge_targets_.push_back(u);
+        edge_columns_.push_back(s.row_start(b) - s.supernode_row_start(u));
+      }
     for (int l = 0; l < st.d; ++l) diag_pos_.push_back(static_cast<int32_t>(st.node + int64_t{l} * st.d + l));
+  }
+  for (size_t t = 0, k = 0; t < steps_.size(); ++t) {
+    passes::Step& st = steps_[t];
+    if (st.kind != Kind::blocks_mapped && st.kind != Kind::blas_mapped) continue;
+    st.targets = edge_targets_.data() + k;
+    st.columns = edge_columns_.data() + k;
+    k += st.m;
   }
   // What load() zeroes: every value the load map misses, but for the upper triangles of node
   // blocks the kernels of kernels.h eliminate (they read and write the lower triangle only).
   std::vector<uint8_t> loaded(values_.size(), 0);
   for (const int32_t q : s.load_map()) loaded[q] = 1;
-  for (const Step& st : steps_) {
-    if (st.kind == Kind::blas || st.kind == Kind::blas_mapped) continue;
+  for (const passes::Step& st : steps_) {
+    if (st.blas()) continue;
     for (int64_t r = 0; r < st.d; ++r)
       for (int64_t c = r + 1; c < st.d; ++c) loaded[st.node + r * st.d + c] = 1;
   }
@@ -109,19 +164,6 @@ Numeric::Numeric(const Symbolic& symbolic)
     }
   }
 }
-
-namespace {
-// The relative map of target supernode u: for each of its rows (the node block's, then E's),
-// the value offset of the row's first column. O(rows of u); the rows a mapped descendant reads
-// are all among them (the elimination game's guarantee, as for the RSI).
-void map_rows(const Symbolic& s, int u, int32_t* map) {
-  const int d = s.supernode_size(u), h = s.supernode_height(u), r0 = s.supernode_row_start(u);
-  const int64_t node = s.node_offset(u), column = s.column_offset(u);
-  const int* rows = s.column_rows(u);
-  for (int l = 0; l < d; ++l) map[r0 + l] = static_cast<int32_t>(node + int64_t{l} * d);
-  for (int r = 0; r < h; ++r) map[rows[r]] = static_cast<int32_t>(column + int64_t{r} * d);
-}
-}  // namespace
 
 bool Numeric::load(const SymmetricCsc& a, const FactorOptions& options) {
   const Symbolic& s = *symbolic_;
@@ -277,85 +319,26 @@ const FactorInfo& Numeric::refuse_not_finite(int row, double value) {
   return info_;
 }
 
+passes::Factor Numeric::passes_factor() {
+  return {steps_.data(), static_cast<int>(steps_.size()), values_.data(), scratch_.data(),
+          floor_.data(),  inv_d_.data(), map_.data()};
+}
+
 FactorInfo Numeric::eliminate() {
   const Symbolic& s = *symbolic_;
-  double* v = values_.data();
   int processed = s.num_rows();  // rows with a completed pivot
-  for (int t = 0; t < s.num_supernodes(); ++t) {
-    const Step& st = steps_[t];
-    const int d = st.d, h = st.h, m = st.m;
-    double* node = v + st.node;
-    double* e = node + int64_t{d} * d;
-    const double* floor = floor_.data() + st.r0;
-    double* inv_d = inv_d_.data() + st.r0;
-    const int32_t* rsi = st.rsi;
-    const int* rows = st.rows;
-    const int* sizes = st.sizes;
-    double* w = scratch_.data();
-    int bad = -1;
-    if (st.kind == Kind::single) {
-      bad = kernels::kSingle[st.single](node, e, v + rsi[2], rsi[1], floor, inv_d);
-    } else if (st.kind == Kind::blas || st.kind == Kind::blas_mapped) {
-      // A wide supernode (dense.h): the node by panels, W and Y by dtrsm, C = W Y^T by dgemm,
-      // then C scattered through the same runs the small kernels walk.
-      bad = dense::ldl_blocked(node, d, d, floor, inv_d, w);
-      if (bad < 0) {
-        dense::begin_l(e, w, node, inv_d, h, d);
-        double* c = w + int64_t{h} * d;
-        dense::lower_product(w, e, h, d, c);
-        if (st.kind == Kind::blas_mapped) {
-          const std::span<const int> col = s.supernode_edges(t);
-          const int* erows = st.erows;
-          for (int b = 0, u = -1; b < m; ++b) {
-            if (s.supernode_of(col[b]) != u) map_rows(s, u = s.supernode_of(col[b]), map_.data());
-            kernels::scatter_mapped(v, c + rows[b], erows, map_.data(), rows[b], h,
-                                    s.row_start(col[b]) - s.supernode_row_start(u), h, sizes[b]);
-          }
-        } else {
-          for (int b = 0; b < m; ++b) rsi = kernels::scatter_runs(v, c + rows[b], rsi, h, sizes[b]);
-        }
-      }
-    } else {
-      kernels::dispatch_size(d, [&](auto size) {
-        constexpr int N = decltype(size)::value;
-        bad = kernels::ldl_node<N>(node, floor, inv_d, d);
-        if (bad >= 0) return;
-        // S -= W Y^T with W in the scratch and Y over E, where it stays (kernels::begin_l).
-        kernels::begin_l<N>(e, w, node, inv_d, h, d);
-        if (st.kind == Kind::blocks_mapped) {
-          const std::span<const int> col = s.supernode_edges(t);
-          const int* erows = st.erows;
-          for (int b = 0, u = -1; b < m; ++b) {
-            if (s.supernode_of(col[b]) != u) map_rows(s, u = s.supernode_of(col[b]), map_.data());
-            const int column = s.row_start(col[b]) - s.supernode_row_start(u);
-            kernels::dispatch_size(sizes[b], [&](auto size_b) {
-              constexpr int DB = decltype(size_b)::value;
-              kernels::reduce_mapped<N, DB>(v, w, e + int64_t{rows[b]} * d, erows, map_.data(), rows[b], h, column, d,
-                                            sizes[b]);
-            });
-          }
-        } else {
-          for (int b = 0; b < m; ++b) {
-            kernels::dispatch_size(sizes[b], [&](auto size_b) {
-              constexpr int DB = decltype(size_b)::value;
-              rsi = kernels::reduce_runs<N, DB>(v, w, e + int64_t{rows[b]} * d, rsi, d, sizes[b]);
-            });
-          }
-        }
-      });
-    }
-    if (bad >= 0) {
-      const int row = st.r0 + bad;
-      const double pivot = node[int64_t{bad} * d + bad];
-      processed = row;
-      info_.status = std::isfinite(pivot) ? FactorStatus::zero_pivot : FactorStatus::not_finite;
-      info_.block = s.block(s.pivot_of_row(row));
-      info_.row = s.perm()[row];
-      info_.pivot = pivot;
-      info_.inertia.zero = 1;
-      if (diag_[row] > 0) info_.min_pivot_ratio = std::abs(pivot) / diag_[row];
-      break;
-    }
+  int bad = -1;
+  if (const int t = current_passes()->eliminate(passes_factor(), bad); t >= 0) {
+    const passes::Step& st = steps_[t];
+    const int row = st.r0 + bad;
+    const double pivot = values_[st.node + int64_t{bad} * st.d + bad];
+    processed = row;
+    info_.status = std::isfinite(pivot) ? FactorStatus::zero_pivot : FactorStatus::not_finite;
+    info_.block = s.block(s.pivot_of_row(row));
+    info_.row = s.perm()[row];
+    info_.pivot = pivot;
+    info_.inertia.zero = 1;
+    if (diag_[row] > 0) info_.min_pivot_ratio = std::abs(pivot) / diag_[row];
   }
   // Inertia and min |d_r| / |H_rr| = 1 / max (|1/d_r| |H_rr|) over the completed pivots, in one
   // branch-free pass after the elimination (counting and dividing pivot by pivot inside it cost a
@@ -412,58 +395,16 @@ void Numeric::solve(double* b, int nrhs, int ld) {
     throw ArgumentError("solve: nrhs " + std::to_string(nrhs) + ", leading dimension " + std::to_string(ld) +
                         " for " + std::to_string(n) + " rows");
   const std::span<const int> perm = s.perm();
-  const double* v = values_.data();
   double* w = work_.data();
+  const passes::Factor f = passes_factor();
   for (int j = 0; j < nrhs; ++j) {
     double* x = b + static_cast<int64_t>(j) * ld;
     for (int i = 0; i < n; ++i) w[i] = x[perm[i]];
     if (scale_ != 0)  // (2^-e H)^-1 (2^-e b) = H^-1 b (prepare)
       for (int i = 0; i < n; ++i) w[i] = std::ldexp(w[i], -scale_);
-    // H = L N L^T, column by column (z_k is final once the earlier columns are applied). Below a
-    // fused chain column the factor holds L_{*,k}: the rows below minus L_{*,k} z_k, then
-    // N_k^-1 z_k, which no later column reads. Elsewhere it holds Y_k = L_{*,k} L_kk (numeric.h):
-    // u = L_kk^-1 z_k, the rows below minus Y_k u (= L_{*,k} z_k), then D^-1 u.
-    for (const Step& st : steps_) {
-      const int d = st.d;
-      double* wt = w + st.r0;
-      const double* l = v + st.node + int64_t{d} * d;
-      const double* inv_d = inv_d_.data() + st.r0;
-      if (st.kind == Kind::blas || st.kind == Kind::blas_mapped) {
-        dense::forward_node(v + st.node, wt, d);
-        dense::forward_column(w, wt, l, st.erows, st.h, d, scratch_.data());
-        for (int i = 0; i < d; ++i) wt[i] *= inv_d[i];
-        continue;
-      }
-      kernels::dispatch_size(d, [&](auto size) {
-        constexpr int N = decltype(size)::value;
-        if (st.kind == Kind::single) {
-          kernels::forward_column<N>(w, wt, l, st.erows, st.h, d);
-          kernels::solve_node<N>(v + st.node, inv_d, wt, d);
-        } else {
-          kernels::forward_unit<N>(v + st.node, wt, d);
-          kernels::forward_column<N>(w, wt, l, st.erows, st.h, d);
-          for (int i = 0; i < d; ++i) wt[i] *= inv_d[i];
-        }
-      });
-    }
-    // Backward in reverse pivot order: x_k = N_k^-1 z_k - L_{*,k}^T x_below, which for Y_k is
-    // L_kk^-T (D^-1 u - Y_k^T x_below).
-    for (auto it = steps_.rbegin(); it != steps_.rend(); ++it) {
-      const Step& st = *it;
-      const int d = st.d;
-      double* wt = w + st.r0;
-      const double* l = v + st.node + int64_t{d} * d;
-      if (st.kind == Kind::blas || st.kind == Kind::blas_mapped) {
-        dense::backward_column(w, wt, l, st.erows, st.h, d, scratch_.data());
-        dense::backward_node(v + st.node, wt, d);
-        continue;
-      }
-      kernels::dispatch_size(d, [&](auto size) {
-        constexpr int N = decltype(size)::value;
-        kernels::backward_column<N>(w, wt, l, st.erows, st.h, d);
-        if (st.kind != Kind::single) kernels::backward_unit<N>(v + st.node, wt, d);
-      });
-    }
+    // H = L N L^T: forward through L and N, then back through L^T (passes.inc).
+    current_passes()->forward(f, w);
+    current_passes()->backward(f, w);
     for (int i = 0; i < n; ++i) x[perm[i]] = w[i];
   }
 }
@@ -489,7 +430,7 @@ SymmetricCsc Numeric::scalar_ldl() const {
       }
       // Below the node the scalar L is Y = L_{*,k} L_kk: stored as it is, but for a fused
       // chain column, which holds L_{*,k} (numeric.h).
-      const bool single = steps_[t].kind == Kind::single;
+      const bool single = steps_[t].keeps_l();
       for (int r = 0; r < h; ++r) {
         double sum = lb[r * d + c];
         if (single)

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "ldlpgs/factor/passes.h"
 #include "ldlpgs/factor/symbolic.h"
 #include "ldlpgs/sparse/csc.h"
 
@@ -54,6 +55,15 @@ struct FactorInfo {
   bool usable() const { return status == FactorStatus::ok || status == FactorStatus::indefinite; }
   std::string message() const;  // one line naming the status, block, row and pivot
 };
+
+// The kernels the numeric phase runs (factor/passes.h), process-wide: "avx2" (4 lanes per vector)
+// on a CPU with AVX2 in an x86-64 build, else "sse2" (2 lanes; the name of the portable build
+// elsewhere). The values are the same bit for bit either way; only the speed differs.
+const char* kernel_isa();
+// Chooses the kernels: "auto" (the default: the best this CPU runs), "sse2" or "avx2".
+// ArgumentError for another name or one this CPU or build cannot run. For benchmarks and tests
+// that compare the two; not thread-safe against a running factorization.
+void set_kernel_isa(const std::string& isa);
 
 class Numeric {
  public:
@@ -96,19 +106,11 @@ class Numeric {
   // accessors read ten arrays, two of them through sn_begin_, per supernode; on a chain (one
   // small pivot per supernode) those lookups and the tests choosing the kernel were a tenth of
   // the factorization (perf, papers/factor.md "Per-pivot overhead").
-  enum class Kind : uint8_t { single, blocks, blocks_mapped, blas, blas_mapped };
-  struct Step {
-    int64_t node;          // offset of the node block in values_
-    const int32_t* rsi;    // its runs (Symbolic::rsi)
-    const int* rows;       // first row in E of each edge block (Symbolic::edge_rows)
-    const int* sizes;      // rows of each edge block (Symbolic::edge_sizes)
-    const int* erows;      // permuted row of each row of E (Symbolic::column_rows)
-    int d, h, r0, m;       // rows of the node, rows of E, first permuted row, edge blocks
-    Kind kind;
-    uint8_t single;        // kernels::kSingle index when kind == single
-  };
+  passes::Factor passes_factor();
   const Symbolic* symbolic_;
-  std::vector<Step> steps_;      // (size symbolic.num_supernodes())
+  std::vector<passes::Step> steps_;  // (size symbolic.num_supernodes())
+  std::vector<int> edge_targets_;   // mapped steps' targets and columns (passes::Step; size their edge blocks)
+  std::vector<int> edge_columns_;
   // The values load() must zero: offset and length of each run of entries that no stored entry
   // of the pattern loads (fill blocks, an E's or a node's zeros, a BLAS node's upper triangle).
   // A per-block node's upper triangle is not among them: nothing reads or writes it, so it stays

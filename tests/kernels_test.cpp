@@ -12,6 +12,20 @@
 namespace ldlpgs {
 namespace {
 
+#ifdef LDLPGS_KERNELS_AVX2
+// kernels_avx2_test.cpp: the same tests on the 4-lane kernels the AVX2 passes run (passes.h),
+// all skipped on a CPU without AVX2.
+static_assert(kernels::kLanes == 4);
+class RequireAvx2 : public ::testing::Environment {
+  void SetUp() override {
+    if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "this CPU has no AVX2";
+  }
+};
+const ::testing::Environment* const kRequireAvx2 = ::testing::AddGlobalTestEnvironment(new RequireAvx2);
+#else
+static_assert(kernels::kLanes == 2);
+#endif
+
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 // A random SPD d x d matrix with condition number in the tens.

@@ -195,6 +195,16 @@ TEST(LdlpgsBench, JsonFields) {
     }
 }
 
+TEST(LdlpgsBench, KernelsAreNamedAndChosen) {
+  const Result r = run("bench chain:10 --kernels sse2 --json");
+  ASSERT_EQ(r.code, 0) << r.err << r.out;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["kernels"], "sse2");
+  const Result a = run("bench chain:10 --json");  // auto: whichever this CPU runs best
+  ASSERT_EQ(a.code, 0) << a.err << a.out;
+  const std::string isa = nlohmann::json::parse(a.out)["kernels"];
+  EXPECT_TRUE(isa == "sse2" || isa == "avx2") << isa;
+}
+
 TEST(LdlpgsStep, JsonFieldsOnABuiltInScene) {
   const Result r = run("step heavy-chain-10-1000 --steps 50 --json");
   ASSERT_EQ(r.code, 0) << r.err << r.out;
@@ -256,6 +266,8 @@ TEST(LdlpgsExport, MatrixVerifiesAgainstCholmod) {
 }
 
 TEST(LdlpgsBadInput, UnknownScene) { expect_input_error("step no-such-scene", {"no-such-scene", "built-in"}); }
+
+TEST(LdlpgsBadInput, UnknownKernels) { expect_input_error("bench chain:10 --kernels avx512", {"--kernels", "avx512"}); }
 
 TEST(LdlpgsBadInput, UnknownSolver) { expect_input_error("step pendulum --solver magic", {"--solver", "magic", "ldl-pgs"}); }
 

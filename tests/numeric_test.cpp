@@ -76,6 +76,25 @@ Problem problem(const Case& c) {
 
 Eigen::VectorXd to_eigen(const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), v.size()); }
 
+// Where the default kernels are the AVX2 ones (factor/passes.h), the baseline's give the same
+// factor and the same solution, bit for bit (each lane does the scalar operations in order).
+void expect_the_same_with_sse2_kernels(const Symbolic& s, const SymmetricCsc& a, Numeric& f) {
+  if (std::string(kernel_isa()) == "sse2") return;
+  set_kernel_isa("sse2");
+  Numeric baseline(s);
+  const bool usable = baseline.factorize(a).usable();
+  std::vector<double> x(a.n), x_baseline(a.n);
+  for (int i = 0; i < a.n; ++i) x[i] = x_baseline[i] = 1 + std::sin(i);
+  if (usable) baseline.solve(x_baseline);
+  set_kernel_isa("auto");
+  ASSERT_TRUE(usable);
+  f.solve(x);
+  for (size_t q = 0; q < f.values().size(); ++q)
+    ASSERT_EQ(std::bit_cast<uint64_t>(baseline.values()[q]), std::bit_cast<uint64_t>(f.values()[q])) << "value " << q;
+  for (int i = 0; i < a.n; ++i)
+    ASSERT_EQ(std::bit_cast<uint64_t>(x_baseline[i]), std::bit_cast<uint64_t>(x[i])) << "x " << i;
+}
+
 class FactorHarness : public ::testing::TestWithParam<Case> {};
 
 TEST_P(FactorHarness, AgreesWithCholmodAndDenseEigen) {
@@ -111,6 +130,7 @@ TEST_P(FactorHarness, AgreesWithCholmodAndDenseEigen) {
     ASSERT_EQ(reused.values().size(), fresh.values().size());
     for (size_t q = 0; q < fresh.values().size(); ++q)
       ASSERT_EQ(std::bit_cast<uint64_t>(reused.values()[q]), std::bit_cast<uint64_t>(fresh.values()[q])) << "value " << q;
+    expect_the_same_with_sse2_kernels(s, p.a, fresh);
   }
   if (p.a.n > 300) return;
   // Dense references: P^T L D L^T P = A, and x = A^-1 b from Eigen's LDLT.
@@ -457,6 +477,17 @@ TEST(NumericMisuse, NanEntryIsTheStatusNotFiniteNamingIt) {
   const FactorInfo info = f.factorize(a);
   EXPECT_EQ(info.status, FactorStatus::not_finite);
   EXPECT_EQ(info.row, 2);
+}
+
+TEST(NumericMisuse, UnknownKernelIsaThrows) {
+  EXPECT_THROW(set_kernel_isa("avx512"), ArgumentError);
+  EXPECT_THROW(set_kernel_isa(""), ArgumentError);
+  const std::string isa = kernel_isa();
+  EXPECT_TRUE(isa == "sse2" || isa == "avx2") << isa;
+  set_kernel_isa("sse2");
+  EXPECT_STREQ(kernel_isa(), "sse2");
+  set_kernel_isa("auto");
+  EXPECT_EQ(kernel_isa(), isa);
 }
 
 TEST(NumericMisuse, PartitionThatDoesNotCoverTheRowsThrows) {

@@ -1,0 +1,15 @@
+// The passes with 4-lane kernels, compiled with -mavx2 (factor/CMakeLists.txt); Numeric calls
+// them only on a CPU that has AVX2 (kernel_isa()). No FMA: -mavx2 does not enable it, and
+// -ffp-contract=off keeps any later -mfma from fusing (kernels.h).
+#ifndef LDLPGS_KERNELS_AVX2
+#error "passes_avx2.cpp is compiled with -mavx2 -DLDLPGS_KERNELS_AVX2 (factor/CMakeLists.txt)"
+#endif
+#include "passes.inc"
+
+namespace ldlpgs::passes {
+// The solve keeps the SSE2 passes: built here with 4 lanes it was slower on 26 of factor_bench's 38
+// problems, by 1-12 % (by less than the run-to-run noise on most; pairs built here did no
+// better), where the factorization was 8-31 % faster on the mechanisms (papers/factor.md "Four
+// lanes with AVX2"). (kSse2 is constant-initialized: its fields are addresses.)
+const Passes kAvx2{"avx2", &eliminate, kSse2.forward, kSse2.backward};
+}  // namespace ldlpgs::passes

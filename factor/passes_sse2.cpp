@@ -1,0 +1,6 @@
+// The passes with the x86-64 baseline's kernels (SSE2, 2 lanes): every CPU runs these.
+#include "passes.inc"
+
+namespace ldlpgs::passes {
+const Passes kSse2{"sse2", &eliminate, &forward, &backward};
+}  // namespace ldlpgs::passes
