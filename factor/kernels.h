@@ -246,7 +246,7 @@ inline void pack_rows(const double* y, V (*yt)[N]) {
 // scalar dot product's sum in its order (from 0, k ascending), then one subtraction; of a last,
 // partial pack only the lanes below cols are stored.
 template <int N>
-inline void subtract_row(double* __restrict t, const double* __restrict w, const V (*yt)[N], int cols) {
+__attribute__((always_inline)) inline void subtract_row(double* __restrict t, const double* __restrict w, const V (*yt)[N], int cols) {
   int c = 0;
   LDLPGS_UNROLL for (; c + kLanes <= cols; c += kLanes) {
     V s = {};

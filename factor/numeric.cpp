@@ -170,28 +170,8 @@ bool Numeric::load(const SymmetricCsc& a, const FactorOptions& options) {
   assert(a.n == s.num_rows() && a.nnz() == s.pattern_nnz());
   for (size_t i = 0; i < zero_runs_.size(); i += 2)
     std::fill_n(values_.begin() + zero_runs_[i], zero_runs_[i + 1], 0.0);
-  // Scatter, and check finiteness on the way: x * 0 is 0 for a finite x and NaN for an infinite
-  // or NaN one, summed in four accumulators (two instructions per entry; the integer test of
-  // the exponent bits, not_finite_bit, took five: load 8 % faster, perf). As two passes, the
-  // check vectorized, it was 4 % slower on chain-300; a gather writing each value once in
-  // order, 30 % slower.
-  const int32_t* map = s.load_map().data();
-  const double* x = a.values.data();
-  double* v = values_.data();
-  const int64_t nnz = a.nnz();
-  double nan[4] = {0, 0, 0, 0};
-  int64_t p = 0;
-  for (; p + 4 <= nnz; p += 4)
-    for (int j = 0; j < 4; ++j) {
-      v[map[p + j]] = x[p + j];
-      nan[j] += x[p + j] * 0.0;
-    }
-  for (; p < nnz; ++p) {
-    v[map[p]] = x[p];
-    nan[0] += x[p] * 0.0;
-  }
-  const double any = nan[0] + nan[1] + nan[2] + nan[3];
-  if (any != any) return false;
+  // Scatter, and check finiteness on the way (passes.inc).
+  if (!current_passes()->scatter(values_.data(), s.load_map().data(), a.values.data(), a.nnz())) return false;
   prepare(options);
   return true;
 }
@@ -200,30 +180,11 @@ bool Numeric::load(const SymmetricCsc& a, const FactorOptions& options) {
 // its diagonal.
 void Numeric::prepare(const FactorOptions& options) {
   const Symbolic& s = *symbolic_;
-  // H + eps diag(H), and the largest and the smallest nonzero |H_ii|, four of each at a time: one
-  // running maximum is a chain of dependent maxsd (prepare was 7 % of chain-300's factorization,
-  // perf annotate).
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  double top[4] = {0, 0, 0, 0}, low[4] = {kInf, kInf, kInf, kInf};
+  // H + eps diag(H), and the largest and the smallest nonzero |H_ii| (passes.inc).
   const int n = s.num_rows();
-  const double grow = 1 + options.regularization;
-  double* v = values_.data();
-  int i = 0;
-  for (; i + 4 <= n; i += 4)
-    for (int j = 0; j < 4; ++j) {
-      const double h = std::abs(v[diag_pos_[i + j]] *= grow);
-      diag_[i + j] = h;
-      top[j] = h > top[j] ? h : top[j];
-      low[j] = h > 0 && h < low[j] ? h : low[j];
-    }
-  for (; i < n; ++i) {
-    const double h = std::abs(v[diag_pos_[i]] *= grow);
-    diag_[i] = h;
-    top[0] = h > top[0] ? h : top[0];
-    low[0] = h > 0 && h < low[0] ? h : low[0];
-  }
-  double largest = std::max(std::max(top[0], top[1]), std::max(top[2], top[3]));
-  const double smallest = std::min(std::min(low[0], low[1]), std::min(low[2], low[3]));
+  double largest = 0, smallest = 0;
+  current_passes()->diagonal(values_.data(), diag_pos_.data(), n, 1 + options.regularization, diag_.data(), largest,
+                             smallest);
   // At the edges of double the elimination breaks though the matrix is fine: 1 / d overflows for
   // a subnormal pivot (1e-314: "ok", then a NaN solution), 1e-12 |H_rr| underflows to 0, a
   // Schur update overflows near 1e308 (issue 14). Factoring 2^-e H instead is exact (a power of
@@ -249,8 +210,7 @@ void Numeric::prepare(const FactorOptions& options) {
   // A pivot at or below the smallest normal double counts as zero whatever the threshold: its
   // reciprocal is inf (1 / 1e-314) or nearly, and the solve through it NaN. After the scaling
   // that is a pivot below 2^-1022 of a diagonal centred on 1, a zero pivot in any reading.
-  constexpr double kTiny = std::numeric_limits<double>::min();
-  for (i = 0; i < n; ++i) floor_[i] = std::max(kTiny, options.zero_pivot * (diag_[i] > 0 ? diag_[i] : largest));
+  current_passes()->floors(diag_.data(), n, options.zero_pivot, largest, floor_.data());
 }
 
 std::span<double> Numeric::begin_load() {
@@ -340,30 +300,14 @@ FactorInfo Numeric::eliminate() {
     info_.inertia.zero = 1;
     if (diag_[row] > 0) info_.min_pivot_ratio = std::abs(pivot) / diag_[row];
   }
-  // Inertia and min |d_r| / |H_rr| = 1 / max (|1/d_r| |H_rr|) over the completed pivots, in one
-  // branch-free pass after the elimination (counting and dividing pivot by pivot inside it cost a
-  // fifth of a small factorization). The sign of 1/d is the sign of d.
-  // Four running maxima, not one: a single one is a chain of dependent maxsd (4 cycles each),
-  // and on chain-300 that chain was 6 % of the factorization (perf annotate).
-  double top[4] = {0, 0, 0, 0};
-  int negative = 0, r = 0;
-  for (; r + 4 <= processed; r += 4)
-    for (int j = 0; j < 4; ++j) {
-      const double x = std::abs(inv_d_[r + j]) * diag_[r + j];
-      top[j] = x > top[j] ? x : top[j];
-      negative += inv_d_[r + j] < 0;
-    }
-  for (; r < processed; ++r) {
-    const double x = std::abs(inv_d_[r]) * diag_[r];
-    top[0] = x > top[0] ? x : top[0];
-    negative += inv_d_[r] < 0;
-  }
-  const double largest = std::max(std::max(top[0], top[1]), std::max(top[2], top[3]));
+  // Inertia and min |d_r| / |H_rr| (passes.inc), in one pass after the elimination.
+  double largest = 0;
+  const int negative = current_passes()->inertia(inv_d_.data(), diag_.data(), processed, largest);
   info_.inertia.negative = negative;
   info_.inertia.positive = processed - negative;
   if (largest > 0) info_.min_pivot_ratio = std::min(info_.min_pivot_ratio, 1.0 / largest);
   if (negative > 0 && info_.status == FactorStatus::ok) {
-    r = 0;
+    int r = 0;
     while (inv_d_[r] > 0) ++r;
     const int k = s.pivot_of_row(r), t = s.supernode_of(k);
     info_.status = FactorStatus::indefinite;

@@ -12,7 +12,9 @@
 // row of E. The one exception is a fused chain column (kernels::eliminate_single), which keeps
 // L_{*,k} (kernels::end_l): there the solve's L_kk^-1 z would sit on the chain's critical path
 // (kernels.h, begin_l). scalar_ldl() expands either to CHOLMOD's convention.
+#include <cstddef>
 #include <cstdint>
+#include <new>
 #include <span>
 #include <string>
 #include <vector>
@@ -64,6 +66,25 @@ const char* kernel_isa();
 // ArgumentError for another name or one this CPU or build cannot run. For benchmarks and tests
 // that compare the two; not thread-safe against a running factorization.
 void set_kernel_isa(const std::string& isa);
+
+namespace detail {
+// Cache-line-aligned storage for the numeric phase's arrays, so that where a 4-lane load of the
+// packed values splits a cache line depends on the Symbolic's layout only, not on where malloc
+// put the array in this run (papers/factor.md "Four lanes with AVX2").
+template <class T>
+struct CacheAligned {
+  using value_type = T;
+  static constexpr std::align_val_t kAlign{64};
+  CacheAligned() = default;
+  template <class U>
+  CacheAligned(const CacheAligned<U>&) {}
+  T* allocate(size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kAlign)); }
+  void deallocate(T* p, size_t) { ::operator delete(p, kAlign); }
+  friend bool operator==(const CacheAligned&, const CacheAligned&) { return true; }
+};
+template <class T>
+using AlignedVector = std::vector<T, CacheAligned<T>>;
+}  // namespace detail
 
 class Numeric {
  public:
@@ -117,12 +138,12 @@ class Numeric {
   // the zero the constructor put there (zeroing all values was 4 % of chain-300's factorization).
   std::vector<int64_t> zero_runs_;  // (size 2 x runs)
   std::vector<int32_t> diag_pos_;   // value offset of each permuted row's diagonal (size n)
-  std::vector<double> values_;   // packed blocks (size symbolic.num_values())
-  std::vector<double> scratch_;  // W = E_{*,k} L_kk^-T for the reduction (kernels::begin_l; size symbolic.scratch_size())
-  std::vector<double> floor_;    // zero-pivot threshold per permuted row (size n)
-  std::vector<double> diag_;     // |H_rr| regularized, per permuted row (size n)
-  std::vector<double> work_;     // permuted right-hand side (size n)
-  std::vector<double> inv_d_;    // 1 / D per permuted row (size n)
+  detail::AlignedVector<double> values_;   // packed blocks (size symbolic.num_values())
+  detail::AlignedVector<double> scratch_;  // W = E_{*,k} L_kk^-T for the reduction (kernels::begin_l; size symbolic.scratch_size())
+  detail::AlignedVector<double> floor_;    // zero-pivot threshold per permuted row (size n)
+  detail::AlignedVector<double> diag_;     // |H_rr| regularized, per permuted row (size n)
+  detail::AlignedVector<double> work_;     // permuted right-hand side (size n)
+  detail::AlignedVector<double> inv_d_;    // 1 / D per permuted row (size n)
   std::vector<int32_t> map_;     // a mapped supernode's target: value offset of each of its rows (size n if any is mapped)
   int scale_ = 0;                // the factored matrix is 2^-scale_ H (prepare(): H out of range)
   FactorInfo info_;

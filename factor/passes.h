@@ -56,10 +56,28 @@ using EliminateFn = int (*)(const Factor& f, int& bad);
 // for the factorization (the BLAS steps' gathered rows).
 using SolveFn = void (*)(const Factor& f, double* w);
 
+// The passes over all entries or rows around the elimination (Numeric::load, prepare,
+// eliminate), built twice like it: with AVX2 they made chain-300's factorization 4 % faster
+// (papers/factor.md "Four lanes with AVX2").
+// v[map[p]] = x[p] for p < nnz; false when some x[p] is NaN or infinite.
+using ScatterFn = bool (*)(double* v, const int32_t* map, const double* x, int64_t nnz);
+// v[pos[i]] *= grow and diag[i] = |v[pos[i]]| for i < n; the largest diag and the smallest
+// nonzero one (+inf when none is).
+using DiagonalFn = void (*)(double* v, const int32_t* pos, int n, double grow, double* diag, double& largest,
+                            double& smallest);
+// floor[i] = max(smallest normal double, zero_pivot (diag[i] > 0 ? diag[i] : largest)).
+using FloorsFn = void (*)(const double* diag, int n, double zero_pivot, double largest, double* floor);
+// Over the first `rows` pivots: returns how many are negative, and sets largest = max |1/d_r| diag_r.
+using InertiaFn = int (*)(const double* inv_d, const double* diag, int rows, double& largest);
+
 struct Passes {
   const char* isa;  // "sse2" or "avx2"
   EliminateFn eliminate;
   SolveFn forward, backward;
+  ScatterFn scatter;
+  DiagonalFn diagonal;
+  FloorsFn floors;
+  InertiaFn inertia;
 };
 extern const Passes kSse2;
 #ifdef LDLPGS_HAVE_AVX2_PASSES

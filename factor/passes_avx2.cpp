@@ -11,5 +11,5 @@ namespace ldlpgs::passes {
 // problems, by 1-12 % (by less than the run-to-run noise on most; pairs built here did no
 // better), where the factorization was 8-31 % faster on the mechanisms (papers/factor.md "Four
 // lanes with AVX2"). (kSse2 is constant-initialized: its fields are addresses.)
-const Passes kAvx2{"avx2", &eliminate, kSse2.forward, kSse2.backward};
+const Passes kAvx2{"avx2", &eliminate, kSse2.forward, kSse2.backward, &scatter, &diagonal, &floors, &inertia};
 }  // namespace ldlpgs::passes

@@ -2,5 +2,5 @@
 #include "passes.inc"
 
 namespace ldlpgs::passes {
-const Passes kSse2{"sse2", &eliminate, &forward, &backward};
+const Passes kSse2{"sse2", &eliminate, &forward, &backward, &scatter, &diagonal, &floors, &inertia};
 }  // namespace ldlpgs::passes
