@@ -178,7 +178,7 @@ inline void solve_node(const double* a, const double* inv_d, double* x, int n) {
 // substitution, so Y costs the solve nothing but latency: L_kk^-1 z then stands between one
 // column and the next, which on a chain, where every column waits for the previous one, made
 // the solve 40 % slower (chain-253 5.0 -> 7.0 us), more than the factorization gained (numeric.h,
-// papers/factor.md "The factor keeps Y"). Substitution, not the explicit inverse the talk
+// papers/factor.md "Two rows per instruction, and the factor keeps Y"). Substitution, not the explicit inverse the talk
 // multiplies by: with the inverse the backward error of ladder and grid mechanisms grew from
 // 2e-17 to 8e-14 (papers/factor.md).
 // One pack of rows (as many as T has lanes) of begin_l and end_l.
