@@ -4,8 +4,7 @@
 // the generic path, with the size given at run time), allocating nothing. Layout (symbolic.h):
 // a node block N_k is d x d row-major (only its lower triangle is read); the edge blocks below it
 // are stacked into one h x d row-major matrix E, each of its rows one scalar row of L.
-#include <array>
-#include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <type_traits>
 #include <utility>
@@ -21,6 +20,9 @@
 // 2 lanes per vector) and, compiled with -mavx2 and LDLPGS_KERNELS_AVX2, 4 lanes, chosen at run
 // time by the CPU. Each build is its own inline namespace, so the two sets of inline functions
 // never merge at link time (an AVX2 copy of an inline kernel must not serve the SSE2 caller).
+// For the same reason nothing here calls a standard-library function (an unoptimized build emits
+// std::abs out of line, under the same name in both builds): compiler builtins instead, and the
+// table of fused kernels is a plain array (tests/avx2_symbols.sh checks the AVX2 object).
 #ifdef LDLPGS_KERNELS_AVX2
 #define LDLPGS_KERNELS_ISA avx2
 #define LDLPGS_LANES 4
@@ -73,7 +75,7 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
       double d = aj[j];
       for (int k = 0; k < j; ++k) d -= aj[k] * aj[k] * a[k * m + k];
       aj[j] = d;
-      if (!(std::abs(d) > floor[j]) || !std::isfinite(d)) return j;
+      if (!(__builtin_fabs(d) > floor[j]) || !__builtin_isfinite(d)) return j;
       const double inv = 1.0 / d;
       inv_d[j] = inv;
       for (int i = j + 1; i < m; ++i) {
@@ -96,7 +98,7 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
       double d = aj[j];
       LDLPGS_UNROLL for (int k = 0; k < j; ++k) d -= ul[j * N + k];
       aj[j] = d;
-      if (!(std::abs(d) > floor[j]) || !std::isfinite(d)) return j;
+      if (!(__builtin_fabs(d) > floor[j]) || !__builtin_isfinite(d)) return j;
       const double inv = 1.0 / d;
       inv_d[j] = inv;
       LDLPGS_UNROLL for (int i = j + 1; i < N; ++i) {
@@ -340,14 +342,16 @@ inline int eliminate_single(double* __restrict node, double* __restrict e, doubl
   return -1;
 }
 using SingleFn = int (*)(double*, double*, double*, int, const double*, double*);
+template <class Sizes>
+struct SingleTable;
 template <size_t... I>
-constexpr std::array<SingleFn, sizeof...(I)> single_table(std::index_sequence<I...>) {
-  return {&eliminate_single<static_cast<int>(I / 6) + 1, static_cast<int>(I % 6) + 1>...};
-}
+struct SingleTable<std::index_sequence<I...>> {
+  static constexpr SingleFn fns[sizeof...(I)] = {&eliminate_single<static_cast<int>(I / 6) + 1, static_cast<int>(I % 6) + 1>...};
+};
 // kSingle[6 (N - 1) + DB - 1]: one indirect call picks both sizes (the general path switches
 // twice, dispatch_size). Chain-253 24.1-25.0 -> 22.5-22.9 us, star-253 -6 %, ladder-253 +2-5 %
 // (factor_bench, papers/factor.md).
-inline constexpr std::array<SingleFn, 36> kSingle = single_table(std::make_index_sequence<36>{});
+inline constexpr const SingleFn* kSingle = SingleTable<std::make_index_sequence<36>>::fns;
 
 // The same subtraction for a BLAS supernode (dense.h), whose product C = W Y^T is already
 // computed: c points at C's column of b's first row (row stride ldc); each run subtracts its

@@ -108,7 +108,7 @@ Numeric::Numeric(const Symbolic& symbolic)
     st.r0 = s.supernode_row_start(t);
     st.m = static_cast<int>(s.supernode_edges(t).size());
     st.single = 0;
-    st.targets = st.columns = nullptr;
+    st.edges = static_cast<int>(edge_targets_.size());
     if (s.supernode_blas(t)) {
       st.kind = s.supernode_mapped(t) ? Kind::blas_mapped : Kind::blas;
     } else if (s.supernode_mapped(t)) {
@@ -128,19 +128,12 @@ Numeric::Numeric(const Symbolic& symbolic)
       }
     for (int l = 0; l < st.d; ++l) diag_pos_.push_back(static_cast<int32_t>(st.node + int64_t{l} * st.d + l));
   }
-  for (size_t t = 0, k = 0; t < steps_.size(); ++t) {
-    passes::Step& st = steps_[t];
-    if (st.kind != Kind::blocks_mapped && st.kind != Kind::blas_mapped) continue;
-    st.targets = edge_targets_.data() + k;
-    st.columns = edge_columns_.data() + k;
-    k += st.m;
-  }
   // What load() zeroes: every value the load map misses, but for the upper triangles of node
   // blocks the kernels of kernels.h eliminate (they read and write the lower triangle only).
   std::vector<uint8_t> loaded(values_.size(), 0);
   for (const int32_t q : s.load_map()) loaded[q] = 1;
   for (const passes::Step& st : steps_) {
-    if (st.blas()) continue;
+    if (is_blas(st)) continue;
     for (int64_t r = 0; r < st.d; ++r)
       for (int64_t c = r + 1; c < st.d; ++c) loaded[st.node + r * st.d + c] = 1;
   }
@@ -280,8 +273,8 @@ const FactorInfo& Numeric::refuse_not_finite(int row, double value) {
 }
 
 passes::Factor Numeric::passes_factor() {
-  return {steps_.data(), static_cast<int>(steps_.size()), values_.data(), scratch_.data(),
-          floor_.data(),  inv_d_.data(), map_.data()};
+  return {steps_.data(),  static_cast<int>(steps_.size()), values_.data(),        scratch_.data(), floor_.data(),
+          inv_d_.data(),  map_.data(),                       edge_targets_.data(), edge_columns_.data()};
 }
 
 FactorInfo Numeric::eliminate() {
@@ -374,7 +367,7 @@ SymmetricCsc Numeric::scalar_ldl() const {
       }
       // Below the node the scalar L is Y = L_{*,k} L_kk: stored as it is, but for a fused
       // chain column, which holds L_{*,k} (numeric.h).
-      const bool single = steps_[t].keeps_l();
+      const bool single = keeps_l(steps_[t]);
       for (int r = 0; r < h; ++r) {
         double sum = lb[r * d + c];
         if (single)

@@ -130,7 +130,7 @@ class Numeric {
   passes::Factor passes_factor();
   const Symbolic* symbolic_;
   std::vector<passes::Step> steps_;  // (size symbolic.num_supernodes())
-  std::vector<int> edge_targets_;   // mapped steps' targets and columns (passes::Step; size their edge blocks)
+  std::vector<int> edge_targets_;   // mapped steps' targets and columns (passes::Factor; size their edge blocks)
   std::vector<int> edge_columns_;
   // The values load() must zero: offset and length of each run of entries that no stored entry
   // of the pattern loads (fill blocks, an E's or a node's zeros, a BLAS node's upper triangle).

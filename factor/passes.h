@@ -29,15 +29,15 @@ struct Step {
   const int* rows;       // first row in E of each edge block (Symbolic::edge_rows)
   const int* sizes;      // rows of each edge block (Symbolic::edge_sizes)
   const int* erows;      // permuted row of each row of E (Symbolic::column_rows)
-  const int* targets;    // mapped kinds: the supernode of each edge block's target (size m)
-  const int* columns;    // mapped kinds: each edge block's first column in its target (size m)
+  int edges;             // mapped kinds: the first of its m entries in Factor::targets and ::columns
   int d, h, r0, m;       // rows of the node, rows of E, first permuted row, edge blocks
   Kind kind;
   uint8_t single;        // kernels::kSingle index when kind == single
-  bool blas() const { return kind == Kind::blas || kind == Kind::blas_mapped; }
-  // Below the node the factor keeps L_{*,k}, not Y = L_{*,k} L_kk (numeric.h).
-  bool keeps_l() const { return kind == Kind::single; }
 };
+// (static: no function here may be shared between the SSE2 and AVX2 objects, kernels.h)
+static inline bool is_blas(const Step& s) { return s.kind == Kind::blas || s.kind == Kind::blas_mapped; }
+// Below the node the factor keeps L_{*,k}, not Y = L_{*,k} L_kk (numeric.h).
+static inline bool keeps_l(const Step& s) { return s.kind == Kind::single; }
 
 struct Factor {
   const Step* steps;  // (size count)
@@ -47,6 +47,10 @@ struct Factor {
   const double* floor;  // zero-pivot threshold per permuted row
   double* inv_d;        // 1 / D per permuted row
   int32_t* map;         // a mapped target's relative map (size n if any step is mapped)
+  // Per edge block of the mapped steps (Step::edges): the supernode of its target, and its
+  // first column there.
+  const int* targets;
+  const int* columns;
 };
 
 // Eliminates the steps in order; returns the first step whose pivot `bad` (local row) is zero or
@@ -79,7 +83,12 @@ struct Passes {
   FloorsFn floors;
   InertiaFn inertia;
 };
+// Both tables are constant-initialized (constinit: nothing runs at start-up, so the AVX2 object
+// executes no instruction before Numeric has checked the CPU); the AVX2 one solves with the SSE2
+// functions, named here for it.
 extern const Passes kSse2;
+void forward_sse2(const Factor& f, double* w);
+void backward_sse2(const Factor& f, double* w);
 #ifdef LDLPGS_HAVE_AVX2_PASSES
 extern const Passes kAvx2;
 #endif

@@ -10,6 +10,6 @@ namespace ldlpgs::passes {
 // The solve keeps the SSE2 passes: built here with 4 lanes it was slower on 26 of factor_bench's 38
 // problems, by 1-12 % (by less than the run-to-run noise on most; pairs built here did no
 // better), where the factorization was 8-31 % faster on the mechanisms (papers/factor.md "Four
-// lanes with AVX2"). (kSse2 is constant-initialized: its fields are addresses.)
-const Passes kAvx2{"avx2", &eliminate, kSse2.forward, kSse2.backward, &scatter, &diagonal, &floors, &inertia};
+// lanes with AVX2"). constinit: this table is data, not code run at start-up (passes.h).
+constinit const Passes kAvx2{"avx2", &eliminate, &forward_sse2, &backward_sse2, &scatter, &diagonal, &floors, &inertia};
 }  // namespace ldlpgs::passes

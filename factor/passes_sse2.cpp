@@ -2,5 +2,7 @@
 #include "passes.inc"
 
 namespace ldlpgs::passes {
-const Passes kSse2{"sse2", &eliminate, &forward, &backward, &scatter, &diagonal, &floors, &inertia};
+void forward_sse2(const Factor& f, double* w) { forward(f, w); }
+void backward_sse2(const Factor& f, double* w) { backward(f, w); }
+constinit const Passes kSse2{"sse2", &eliminate, &forward, &backward, &scatter, &diagonal, &floors, &inertia};
 }  // namespace ldlpgs::passes

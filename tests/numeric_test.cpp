@@ -77,7 +77,9 @@ Problem problem(const Case& c) {
 Eigen::VectorXd to_eigen(const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), v.size()); }
 
 // Where the default kernels are the AVX2 ones (factor/passes.h), the baseline's give the same
-// factor and the same solution, bit for bit (each lane does the scalar operations in order).
+// factor (values, status, inertia, pivot ratio) and the same solution, bit for bit (each lane
+// does the scalar operations in order; the solve is the SSE2 one in both, so x checks only that
+// the factors agree where it reads them).
 void expect_the_same_with_sse2_kernels(const Symbolic& s, const SymmetricCsc& a, Numeric& f) {
   if (std::string(kernel_isa()) == "sse2") return;
   set_kernel_isa("sse2");
@@ -88,6 +90,12 @@ void expect_the_same_with_sse2_kernels(const Symbolic& s, const SymmetricCsc& a,
   if (usable) baseline.solve(x_baseline);
   set_kernel_isa("auto");
   ASSERT_TRUE(usable);
+  const FactorInfo& a_info = baseline.info();
+  const FactorInfo& b_info = f.info();
+  EXPECT_EQ(a_info.status, b_info.status);
+  EXPECT_EQ(a_info.inertia.positive, b_info.inertia.positive);
+  EXPECT_EQ(a_info.inertia.negative, b_info.inertia.negative);
+  EXPECT_EQ(std::bit_cast<uint64_t>(a_info.min_pivot_ratio), std::bit_cast<uint64_t>(b_info.min_pivot_ratio));
   f.solve(x);
   for (size_t q = 0; q < f.values().size(); ++q)
     ASSERT_EQ(std::bit_cast<uint64_t>(baseline.values()[q]), std::bit_cast<uint64_t>(f.values()[q])) << "value " << q;
@@ -488,6 +496,18 @@ TEST(NumericMisuse, UnknownKernelIsaThrows) {
   EXPECT_STREQ(kernel_isa(), "sse2");
   set_kernel_isa("auto");
   EXPECT_EQ(kernel_isa(), isa);
+}
+
+// A CPU with AVX2 runs the AVX2 kernels by default (x86-64 builds with GCC or clang have them:
+// factor/CMakeLists.txt), so that the harness above compares two builds and not one with itself.
+TEST(Numeric, AnAvx2CpuRunsTheAvx2Kernels) {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  __builtin_cpu_init();
+  if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "this CPU has no AVX2";
+  EXPECT_STREQ(kernel_isa(), "avx2");
+#else
+  GTEST_SKIP() << "not an x86-64 build";
+#endif
 }
 
 TEST(NumericMisuse, PartitionThatDoesNotCoverTheRowsThrows) {
