@@ -296,9 +296,17 @@ std::vector<int> quotient_order(const BlockPattern& pattern, const QuotientOptio
         // j joins i: i's external degree no longer counts j.
         degree[i] -= mass[j];
         mass[i] += mass[j];
+        // The tie rule reads the block the exact game would take first: any of i's for a degree
+        // that all its blocks share, but for mda-w's weighted degree (the rest of the
+        // supervariable counts, the block itself does not) one of its heaviest blocks.
+        const bool by_weight = opt.score == QuotientScore::degree && opt.weighted && heaviest[i] != heaviest[j];
+        if (by_weight) {
+          if (heaviest[j] > heaviest[i]) tie_index[i] = tie_index[j];
+        } else {
+          tie_index[i] = opt.tie == TieBreak::highest_index ? std::max(tie_index[i], tie_index[j])
+                                                           : std::min(tie_index[i], tie_index[j]);
+        }
         heaviest[i] = std::max(heaviest[i], heaviest[j]);
-        tie_index[i] = opt.tie == TieBreak::highest_index ? std::max(tie_index[i], tie_index[j])
-                                                         : std::min(tie_index[i], tie_index[j]);
         blocks[i].insert(blocks[i].end(), blocks[j].begin(), blocks[j].end());
         std::vector<int>().swap(blocks[j]);
         std::vector<int>().swap(adj[j]);
