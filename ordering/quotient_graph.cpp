@@ -101,7 +101,7 @@ std::vector<int> quotient_order(const BlockPattern& pattern, const QuotientOptio
       for (int v : members[e]) add(v);
     }
     // What the count below reads, from the list lengths alone: a count that cannot afford it
-    // gives up before reading any member (the same counts succeed as when the budget was
+    // gives up before reading its neighbours' lists (the same counts succeed as when the budget was
     // checked while reading; a failed count of the second tier below had read up to its whole
     // budget first, and made bcsstk13's meca ordering 7.4-8.4 ms instead of 6.8).
     for (int u : reach) {
@@ -143,14 +143,15 @@ std::vector<int> quotient_order(const BlockPattern& pattern, const QuotientOptio
   // simplicial until an element covers it, and meca leaves fill on trees.
   constexpr int64_t kExactDegree = 16, kExactBudget = 1024;
   // Past that degree a block is still counted exactly when its lists are short: at most
-  // kShortLists entries in A_i and the L_e of E_i (read without their members), and at most
-  // kShortBudget entries read in all. A grid's late blocks are such: dozens of blocks in a few
+  // kShortLists entries in A_i and the L_e of E_i (their lengths; merged and eliminated ids in
+  // an L_e count too), and at most kShortBudget entries of the L_e and the neighbours' lists read. A grid's late blocks are such: dozens of blocks in a few
   // supervariables (median 57-78 entries read per count at degrees 16-64 on grid-5000), where
   // bcsstk13's read 570-930. Without this tier meca was 16 % above meca-exact on grid-5000
   // (145M against 124M flops), 4.7 % on grid-3000; with it equal on every grid. A count that
   // runs out of budget is not tried again until the block's degree bound falls below the
   // degree it failed at (failed_at), so that a block read in vain costs once; nor is one whose
-  // lists were too long.
+  // lists were too long. (A heuristic: the bound may grow again, and lists shrink as elements
+  // are absorbed, so a block may stay approximate after it became cheap to count.)
   constexpr int64_t kShortLists = 32, kShortBudget = 256;
   std::vector<int64_t> failed_at(n, INT64_MAX);  // degree bound at the last failed count (size n)
   auto try_exact = [&](int i) -> int64_t {
