@@ -144,7 +144,8 @@ std::vector<int> quotient_order(const BlockPattern& pattern, const QuotientOptio
   constexpr int64_t kExactDegree = 16, kExactBudget = 1024;
   // Past that degree a block is still counted exactly when its lists are short: at most
   // kShortLists entries in A_i and the L_e of E_i (their lengths; merged and eliminated ids in
-  // an L_e count too), and at most kShortBudget entries of the L_e and the neighbours' lists read. A grid's late blocks are such: dozens of blocks in a few
+  // an L_e count too), and at most kShortBudget entries of the L_e and the neighbours' lists
+  // read. A grid's late blocks are such: dozens of blocks in a few
   // supervariables (median 57-78 entries read per count at degrees 16-64 on grid-5000), where
   // bcsstk13's read 570-930. Without this tier meca was 16 % above meca-exact on grid-5000
   // (145M against 124M flops), 4.7 % on grid-3000; with it equal on every grid. A count that
