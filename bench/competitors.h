@@ -48,8 +48,10 @@ std::span<const std::string_view> direct_solver_names();
 // the link's name says nothing), then, for OpenBLAS, its openblas_get_config(). E.g.
 //   /usr/lib/x86_64-linux-gnu/blas/libblas.so.3.11.0                     (reference BLAS)
 //   /usr/lib/x86_64-linux-gnu/openblas-serial/libblas.so.3 (OpenBLAS 0.3.21 ...)
-// A threaded OpenBLAS is pinned to one thread by the first call, and the text says so: every
-// solver compared here runs on one core. Computed once; "dgemm_ not found" when no BLAS is loaded.
+// A threaded OpenBLAS is pinned to one thread by the first call, and so is OpenMP (CHOLMOD's
+// supernodal factorization uses it), and the text says so ("; OpenMP: 2 threads pinned to 1"
+// after the BLAS): every solver compared here runs on one core. Computed once; "dgemm_ not
+// found" when no BLAS is loaded.
 std::string blas_in_use();
 
 }  // namespace ldlpgs
