@@ -15,6 +15,7 @@
 #include <string_view>
 
 #include "apps/commands.h"
+#include "bench/competitors.h"
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/limits.h"
 #include "ldlpgs/version.h"
@@ -115,6 +116,14 @@ int extras_error(const CLI::App& app, const std::string& what, int argc, char** 
 }  // namespace
 
 int main(int argc, char** argv) {
+  // `bench` times CHOLMOD supernodal, whose OpenMP threads only a thread limit set before the
+  // program starts bounds (bench/competitors.h): the one subcommand that re-executes itself with
+  // OMP_THREAD_LIMIT=1. (The subcommand is the first word; --no-size-limits takes no value.)
+  for (int i = 1; i < argc; ++i)
+    if (argv[i][0] != '-') {
+      if (std::string_view(argv[i]) == "bench") ldlpgs::limit_openmp_to_one_thread(argv);
+      break;
+    }
   CLI::App app{"ldlpgs: block-sparse LDL^T with graph-elimination orderings, for mechanisms"};
   app.set_version_flag("--version", std::string("ldlpgs ") + ldlpgs::kVersion);
   app.add_flag_callback("--no-size-limits", [] { ldlpgs::size_limits() = ldlpgs::SizeLimits::none(); },

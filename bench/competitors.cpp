@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 #include <dlfcn.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -236,18 +237,11 @@ F* global_function(const char* name) {
   return reinterpret_cast<F*>(dlsym(RTLD_DEFAULT, name));
 }
 
-// CHOLMOD's supernodal factorization (3.0.14) opens OpenMP parallel regions (libgomp, which it
-// links), one thread per core by default. The comparison is of one core each; on the 2-core
-// EPYC of papers/factor.md the second thread did not make it faster (`ldlpgs bench bcsstk13.mtx`
-// before this pin: 12.7-12.9 ms, 12.3-12.7 with OMP_NUM_THREADS=1, three runs each; heavy:253
-// 7.6 ms either way). Returns what it did, for blas_in_use()'s text.
-std::string pin_openmp() {
-  const auto max_threads = global_function<int()>("omp_get_max_threads");
-  const auto set_threads = global_function<void(int)>("omp_set_num_threads");
-  if (max_threads == nullptr || set_threads == nullptr || max_threads() <= 1) return "";
-  const int threads = max_threads();
-  set_threads(1);
-  return "; OpenMP: " + std::to_string(threads) + " threads pinned to 1";
+// OpenMP's thread limit in this process, for blas_in_use()'s text ("" when no OpenMP runtime is
+// loaded).
+std::string openmp_limit() {
+  const auto limit = global_function<int()>("omp_get_thread_limit");
+  return limit == nullptr ? "" : "; OpenMP thread limit " + std::to_string(limit());
 }
 
 std::string find_blas() {
@@ -277,8 +271,15 @@ std::string find_blas() {
 }  // namespace
 
 std::string blas_in_use() {
-  static const std::string blas = find_blas() + pin_openmp();
+  static const std::string blas = find_blas() + openmp_limit();
   return blas;
+}
+
+void limit_openmp_to_one_thread(char** argv) {
+  const auto limit = global_function<int()>("omp_get_thread_limit");
+  if (limit == nullptr || limit() <= 1 || std::getenv("OMP_THREAD_LIMIT") != nullptr) return;
+  setenv("OMP_THREAD_LIMIT", "1", 1);
+  execv("/proc/self/exe", argv);  // returns only on failure: then the limit stays, and is printed
 }
 
 std::span<const std::string_view> direct_solver_names() { return kNames; }

@@ -48,10 +48,20 @@ std::span<const std::string_view> direct_solver_names();
 // the link's name says nothing), then, for OpenBLAS, its openblas_get_config(). E.g.
 //   /usr/lib/x86_64-linux-gnu/blas/libblas.so.3.11.0                     (reference BLAS)
 //   /usr/lib/x86_64-linux-gnu/openblas-serial/libblas.so.3 (OpenBLAS 0.3.21 ...)
-// A threaded OpenBLAS is pinned to one thread by the first call, and so is OpenMP (CHOLMOD's
-// supernodal factorization uses it), and the text says so ("; OpenMP: 2 threads pinned to 1"
-// after the BLAS): every solver compared here runs on one core. Computed once; "dgemm_ not
-// found" when no BLAS is loaded.
+// A threaded OpenBLAS is pinned to one thread by the first call, and the text says so; it ends
+// with OpenMP's thread limit where an OpenMP runtime is loaded ("; OpenMP thread limit 1", see
+// limit_openmp_to_one_thread). Computed once; "dgemm_ not found" when no BLAS is loaded.
 std::string blas_in_use();
+
+// For the programs that time CHOLMOD (ldlpgs bench, factor_bench), first thing in main: where
+// libgomp is loaded with a thread limit above 1 and OMP_THREAD_LIMIT is not set, re-executes the
+// program (/proc/self/exe, the same argv) with OMP_THREAD_LIMIT=1, so that every solver runs on
+// one core. CHOLMOD 3.0.14's supernodal factorization opens its parallel regions with
+// num_threads(CHOLMOD_OMP_NUM_THREADS), 4 in Debian's cholmod_core.h, which overrides
+// omp_set_num_threads and OMP_NUM_THREADS; only the thread limit, which libgomp reads when it is
+// loaded, bounds it. With its 4 threads on this 2-core machine CHOLMOD supernodal took 9.5 ms on
+// bcsstk13, 4.3 ms with the limit (papers/factor.md, "BLAS" and "Against the target"). A limit
+// set by the user is kept.
+void limit_openmp_to_one_thread(char** argv);
 
 }  // namespace ldlpgs

@@ -271,6 +271,7 @@ bool register_matrices() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  limit_openmp_to_one_thread(argv);
   std::vector<char*> args(argv, argv + argc);
   std::vector<std::string> defaults;
   for (std::string_view flag : kDefaultFlags) {

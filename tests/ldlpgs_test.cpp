@@ -195,6 +195,20 @@ TEST(LdlpgsBench, JsonFields) {
     }
 }
 
+// CHOLMOD supernodal's parallel regions ask for 4 threads whatever OMP_NUM_THREADS says: bench
+// restarts itself under OMP_THREAD_LIMIT=1, so that every solver runs on one core, and names the
+// limit after the BLAS (bench/competitors.h). A limit the user set stands.
+TEST(LdlpgsBench, EverySolverRunsOnOneThread) {
+  const nlohmann::json j = json_of("bench chain:10 --dense-max 10 --json");
+  const std::string blas = j.value("blas", "");
+  EXPECT_TRUE(blas.ends_with("; OpenMP thread limit 1")) << blas;
+  setenv("OMP_THREAD_LIMIT", "2", 1);
+  const nlohmann::json k = json_of("bench chain:10 --dense-max 10 --json");
+  unsetenv("OMP_THREAD_LIMIT");
+  const std::string given = k.value("blas", "");
+  EXPECT_TRUE(given.ends_with("; OpenMP thread limit 2")) << given;
+}
+
 TEST(LdlpgsBench, KernelsAreNamedAndChosen) {
   const Result r = run("bench chain:10 --kernels sse2 --json");
   ASSERT_EQ(r.code, 0) << r.err << r.out;
