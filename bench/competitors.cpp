@@ -278,7 +278,7 @@ std::string blas_in_use() {
 void limit_openmp_to_one_thread(char** argv) {
   const auto limit = global_function<int()>("omp_get_thread_limit");
   if (limit == nullptr || limit() <= 1 || std::getenv("OMP_THREAD_LIMIT") != nullptr) return;
-  setenv("OMP_THREAD_LIMIT", "1", 1);
+  if (setenv("OMP_THREAD_LIMIT", "1", 1) != 0) return;  // (the variable is what ends the restarts)
   execv("/proc/self/exe", argv);  // returns only on failure: then the limit stays, and is printed
 }
 

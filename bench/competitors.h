@@ -58,10 +58,11 @@ std::string blas_in_use();
 // program (/proc/self/exe, the same argv) with OMP_THREAD_LIMIT=1, so that every solver runs on
 // one core. CHOLMOD 3.0.14's supernodal factorization opens its parallel regions with
 // num_threads(CHOLMOD_OMP_NUM_THREADS), 4 in Debian's cholmod_core.h, which overrides
-// omp_set_num_threads and OMP_NUM_THREADS; only the thread limit, which libgomp reads when it is
-// loaded, bounds it. With its 4 threads on this 2-core machine CHOLMOD supernodal took 9.5 ms on
-// bcsstk13, 4.3 ms with the limit (papers/factor.md, "BLAS" and "Against the target"). A limit
-// set by the user is kept.
+// omp_set_num_threads and OMP_NUM_THREADS (measured); the thread limit, which libgomp reads when
+// it is loaded, bounds it (omp_set_max_active_levels(0) might too, in process: not tried). With
+// its 4 threads on this 2-core machine CHOLMOD supernodal took 9.5 ms on bcsstk13, 4.3 ms with
+// the limit (papers/factor.md, "Speed"). A limit set by the user is kept, and setting
+// OMP_THREAD_LIMIT=1 oneself avoids the restart (for valgrind or gdb, which a restart escapes).
 void limit_openmp_to_one_thread(char** argv);
 
 }  // namespace ldlpgs

@@ -2,7 +2,7 @@
 // side with the competitor direct solvers (bench/competitors.h: CHOLMOD simplicial and
 // supernodal, Eigen's SimplicialLDLT and, for n <= 1000, Eigen's dense LDLT), on the generated
 // mechanisms (H = J W J^T, every family of ldlpgs::family_names() at 22, 63, 253, 1265 and
-// 3000 constraints: about 88 .. 12000 rows; issue 13 asks for 20-60 and 300-3000) and on the
+// 3000 constraints: about 88 .. 11400 rows; issue 13 asks for 20-60 and 300-3000) and on the
 // test matrices (tests/data/matrices, Pd.mtx left out: it is unsymmetric; blocks as --blocks
 // auto). `ldlpgs bench` measures one problem the same way.
 //
@@ -25,8 +25,9 @@
 //                   computed once after a factor and a solve: every speed comes with its error
 //
 // Times are wall-clock (->UseRealTime(), hence the "/real_time" suffix of every name), rates
-// included: CHOLMOD's supernodal factorization runs OpenMP threads, whose time the default CPU
-// time of the main thread leaves out, and `ldlpgs bench` reports wall-clock medians too.
+// included: CHOLMOD's supernodal factorization may run OpenMP threads (one since main() limits
+// them, bench/competitors.h), whose time the default CPU time of the main thread would leave
+// out, and `ldlpgs bench` reports wall-clock medians too.
 //
 // CHOLMOD's supernodal factorization is BLAS-3 on its dense fronts (dsyrk, dgemm, dpotrf) and
 // runs at the speed of whichever libblas.so.3 the system's alternatives chose: the context block

@@ -199,13 +199,23 @@ TEST(LdlpgsBench, JsonFields) {
 // restarts itself under OMP_THREAD_LIMIT=1, so that every solver runs on one core, and names the
 // limit after the BLAS (bench/competitors.h). A limit the user set stands.
 TEST(LdlpgsBench, EverySolverRunsOnOneThread) {
-  const nlohmann::json j = json_of("bench chain:10 --dense-max 10 --json");
-  const std::string blas = j.value("blas", "");
+  struct Limit {  // OMP_THREAD_LIMIT for the program run within the scope (popen passes environ)
+    explicit Limit(const char* value) {
+      if (value) setenv("OMP_THREAD_LIMIT", value, 1);
+      else unsetenv("OMP_THREAD_LIMIT");
+    }
+    ~Limit() { unsetenv("OMP_THREAD_LIMIT"); }
+  };
+  std::string blas, given;
+  {
+    const Limit none(nullptr);
+    blas = json_of("bench chain:10 --dense-max 10 --json").value("blas", "");
+  }
+  {
+    const Limit two("2");
+    given = json_of("bench chain:10 --dense-max 10 --json").value("blas", "");
+  }
   EXPECT_TRUE(blas.ends_with("; OpenMP thread limit 1")) << blas;
-  setenv("OMP_THREAD_LIMIT", "2", 1);
-  const nlohmann::json k = json_of("bench chain:10 --dense-max 10 --json");
-  unsetenv("OMP_THREAD_LIMIT");
-  const std::string given = k.value("blas", "");
   EXPECT_TRUE(given.ends_with("; OpenMP thread limit 2")) << given;
 }
 
