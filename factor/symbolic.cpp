@@ -87,7 +87,9 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
 
   // Supernodes: maximal runs of nested pivots (k's first edge block is k + 1 and the rest of its
   // column is k + 1's: since k + 1 is then k's parent in the elimination tree, the rest is a subset
-  // of struct(k + 1), equal when the heights match), kept when wide enough (SymbolicOptions).
+  // of struct(k + 1), equal when the heights match), kept when wide enough (SymbolicOptions),
+  // else cut into small supernodes, each as many whole pivots as fit in
+  // small_supernode_max_rows rows (any consecutive part of a nested run nests).
   auto nests = [&](int k) {
     return s.edge_ptr_[k + 1] > s.edge_ptr_[k] && s.edge_pivot_[s.edge_ptr_[k]] == k + 1 &&
            s.height_[k] == s.size_[k + 1] + s.height_[k + 1];
@@ -101,7 +103,12 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
         rows + s.height_[end - 1] >= options.supernode_min_front) {
       s.sn_begin_.push_back(end);
     } else {
-      for (int j = k + 1; j <= end; ++j) s.sn_begin_.push_back(j);
+      const int most = options.supernode_min_rows > 0 ? options.small_supernode_max_rows : 1;
+      for (int j = k + 1, first = k; j <= end; ++j)
+        if (j == end || s.row_start_[j + 1] - s.row_start_[first] > most) {
+          s.sn_begin_.push_back(j);
+          first = j;
+        }
     }
     k = end;
   }

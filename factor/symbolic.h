@@ -18,8 +18,10 @@
 // changes in L: nnz_l and flops are those of the block columns, which the supernode stores
 // exactly (no explicit zeros but the node block's upper triangle). Dense fronts (grids, stars,
 // structural matrices) get kernels of their real width, wide ones level-3 BLAS (dense.h);
-// chains and trees, whose pivots rarely nest, keep the unrolled per-block path. The layout and
-// the RSI are per supernode; a pivot not merged is a supernode of one.
+// chains and trees, whose pivots rarely nest, keep the unrolled per-block path. A run too narrow
+// for one supernode is cut into small ones of up to 6 rows, the unrolled kernels' widths
+// (SymbolicOptions::small_supernode_max_rows). The layout and the RSI are per supernode; a pivot
+// not merged is a supernode of one.
 #include <cstdint>
 #include <span>
 #include <string>
@@ -41,6 +43,14 @@ struct SymbolicOptions {
   // 11 and 33 us; heavy-63's 260 in 468 against 386 us (papers/factor.md, "Supernodes").
   int supernode_min_rows = 32;
   int supernode_min_front = 128;
+  // A run of nested pivots that is not one supernode by the two rules above is cut into
+  // supernodes of at most this many rows (greedily, in pivot order), which the unrolled kernels
+  // of that width eliminate (kernels.h unrolls 1-6): scalar pivots of structural matrices pay the
+  // per-pivot cost once per 6 rows, and two 3-row blocks of a grid run as one 6-row kernel.
+  // Measured with factor_bench, before/after binaries alternated (papers/factor.md, "Small
+  // supernodes"): dwt_992 0.53x the time, bcsstk13 0.61x, jagmesh7 0.66x, the mechanisms within
+  // -6..+5 %. 1 (or supernode_min_rows 0) keeps such pivots alone.
+  int small_supernode_max_rows = 6;
   // Supernodes of at least this many rows are eliminated with dense.h (BLAS), the rest with the
   // kernels of kernels.h at their width.
   int blas_min_rows = 32;

@@ -298,6 +298,9 @@ TEST(LdlpgsExport, MatrixVerifiesAgainstCholmod) {
 TEST(LdlpgsBadInput, UnknownScene) { expect_input_error("step no-such-scene", {"no-such-scene", "built-in"}); }
 
 TEST(LdlpgsBadInput, UnknownKernels) { expect_input_error("bench chain:10 --kernels avx512", {"--kernels", "avx512"}); }
+TEST(LdlpgsBadInput, SmallSupernodeRowsBelowOne) {
+  expect_input_error("bench chain:10 --small-supernode-max-rows 0", {"--small-supernode-max-rows", "not in range 1"});
+}
 
 TEST(LdlpgsBadInput, UnknownSolver) { expect_input_error("step pendulum --solver magic", {"--solver", "magic", "ldl-pgs"}); }
 

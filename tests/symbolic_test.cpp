@@ -156,13 +156,22 @@ TEST(Symbolic, LayoutRsiAndLoadMapOnMechanisms) {
 }
 
 // A dense matrix is one supernode whatever the order; a tridiagonal one (a chain) has none but
-// its last two pivots; the option's threshold is the run's rows.
+// its last two pivots; the option's threshold is the run's rows. A run too narrow is cut into
+// small supernodes of at most small_supernode_max_rows rows, greedily in pivot order (none when
+// supernode_min_rows is 0).
 TEST(Symbolic, SupernodesAreTheMaximalNestedRunsWideEnough) {
-  auto count = [](const SymmetricCsc& a, int block, int min_rows) {
-    const BlockPattern blocks = BlockPattern::from_scalar(a, partition_uniform(a.n, block));
+  auto sizes = [](const SymmetricCsc& a, const std::vector<int>& partition, int min_rows, int small) {
+    const BlockPattern blocks = BlockPattern::from_scalar(a, partition);
     std::vector<int> natural(blocks.num_blocks());
     for (int k = 0; k < blocks.num_blocks(); ++k) natural[k] = k;
-    return Symbolic::analyze(a, blocks, natural, {.supernode_min_rows = min_rows, .supernode_min_front = 0}).num_supernodes();
+    const Symbolic s = Symbolic::analyze(
+        a, blocks, natural, {.supernode_min_rows = min_rows, .supernode_min_front = 0, .small_supernode_max_rows = small});
+    std::vector<int> rows;
+    for (int t = 0; t < s.num_supernodes(); ++t) rows.push_back(s.supernode_size(t));
+    return rows;
+  };
+  auto count = [&](const SymmetricCsc& a, int block, int min_rows, int small = 1) {
+    return static_cast<int>(sizes(a, partition_uniform(a.n, block), min_rows, small).size());
   };
   SymmetricCsc dense, chain;
   dense.n = chain.n = 30;
@@ -182,11 +191,22 @@ TEST(Symbolic, SupernodesAreTheMaximalNestedRunsWideEnough) {
   EXPECT_EQ(count(dense, 3, 0), 10);
   EXPECT_EQ(count(chain, 1, 1), 29);   // pivots 28 and 29 nest (29 is 28's only row)
   EXPECT_EQ(count(chain, 1, 16), 30);
+  // Small supernodes: 30 rows in 3-row blocks, at most 6 (or 7, or 5) rows each; none without
+  // supernodes; the chain's nested pair.
+  EXPECT_EQ(sizes(dense, partition_uniform(30, 3), 31, 6), std::vector<int>(5, 6));
+  EXPECT_EQ(sizes(dense, partition_uniform(30, 3), 31, 7), std::vector<int>(5, 6));
+  EXPECT_EQ(sizes(dense, partition_uniform(30, 3), 31, 5), std::vector<int>(10, 3));
+  EXPECT_EQ(count(dense, 3, 0, 6), 10);
+  EXPECT_EQ(count(chain, 1, 16, 6), 29);
+  // Blocks of 3, 3, 1, 5, 2, 4, 6, 6 rows: greedy pieces of at most 6 rows.
+  const std::vector<int> mixed = {3, 3, 1, 5, 2, 4, 6, 6};
+  EXPECT_EQ(sizes(dense, mixed, 31, 6), (std::vector<int>{6, 6, 6, 6, 6}));  // 3+3, 1+5, 2+4, 6, 6
+  EXPECT_EQ(sizes(dense, mixed, 31, 4), (std::vector<int>{3, 4, 5, 2, 4, 6, 6}));  // 3, 3+1, 5, ...
 }
 
 // The RSI stays within its budget of indices per entry of L on every test matrix, mapping the
-// supernodes with the most runs; bcsstk13's runs alone are 7.9 per entry, so there the budget
-// binds (and the coordinate check above, skipped for bcsstk13, covers mapped supernodes on the
+// supernodes with the most runs; bcsstk13's runs alone are 3.1 per entry (7.9 before the small
+// supernodes), so there the budget binds (and the coordinate check above, skipped for bcsstk13, covers mapped supernodes on the
 // others through kSupernodeChoices).
 TEST(Symbolic, RsiStaysWithinItsBudget) {
   for (const auto& m : testing::test_matrices()) {
@@ -214,7 +234,7 @@ TEST(Symbolic, RsiStaysWithinItsBudget) {
       }
     }
     if (m.name == "bcsstk13.mtx") {
-      EXPECT_GT(runs.rsi_size(), 7 * runs.nnz_l());
+      EXPECT_GT(runs.rsi_size(), 3 * runs.nnz_l());
     }
     // The defaults: runs up to rsi_min_entries whatever L's size, the per-entry budget above it
     // (bcsstk13: within L's size, issue 13's target).
