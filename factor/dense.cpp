@@ -14,6 +14,9 @@ void dtrsv_(const char* uplo, const char* trans, const char* diag, const int* n,
             double* x, const int* incx);
 void dgemv_(const char* trans, const int* m, const int* n, const double* alpha, const double* a, const int* lda,
             const double* x, const int* incx, const double* beta, double* y, const int* incy);
+void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha, const double* a,
+            const int* lda, const double* beta, double* c, const int* ldc);
+void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info);
 void dgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k, const double* alpha,
             const double* a, const int* lda, const double* b, const int* ldb, const double* beta, double* c,
             const int* ldc);
@@ -68,14 +71,58 @@ int ldl_unblocked(double* a, int n, int ld, const double* floor, double* inv_d) 
 
 }  // namespace
 
-// Right-looking by panels of kPanel columns [j0, j1): factor the diagonal block; below it
-// R = A21 becomes W = R L11^-T (kept in w) and L21 = W D1^-1 (over R), since
-// A21 = L21 D1 L11^T; then A22 -= W L21^T, lower triangle, with dgemm. Same arithmetic as the
-// unblocked loop up to the order of the sums.
+// A panel's diagonal block b x b (row stride ld) by LAPACK's Cholesky, A11 = Lc Lc^T, when it is
+// positive definite with every pivot D_j = Lc_jj^2 above its floor; then the m x b rows below,
+// R = A21, become X = R Lc^-T (dtrsm, non-unit) and the trailing matrix A22 -= X X^T (dsyrk,
+// lower triangle only), which is A22 - L21 D L21^T with L = Lc diag(Lc)^-1, D = diag(Lc)^2: the
+// same Schur complement as the LDL^T panel, so the two kinds of panel mix freely. Returns false,
+// with A11 restored from the copy in w (b * b doubles), where dpotrf stops (a pivot <= 0: the
+// block is indefinite or singular) or a pivot is at or below its floor; the caller then runs the
+// LDL^T panel, which finds the same pivot or factors an indefinite block.
+bool cholesky_panel(double* a11, int b, int m, int ld, const double* floor, double* inv_d, double* w) {
+  for (int i = 0; i < b; ++i) std::copy_n(a11 + static_cast<int64_t>(i) * ld, i + 1, w + static_cast<int64_t>(i) * b);
+  int info = 0;
+  dpotrf_("U", &b, a11, &ld, &info);  // row-major lower Lc = BLAS's upper U = Lc^T
+  bool ok = info == 0;
+  for (int j = 0; ok && j < b; ++j) {
+    const double l = a11[static_cast<int64_t>(j) * ld + j], d = l * l;
+    ok = d > floor[j] && std::isfinite(d);
+  }
+  if (!ok) {
+    for (int i = 0; i < b; ++i) std::copy_n(w + static_cast<int64_t>(i) * b, i + 1, a11 + static_cast<int64_t>(i) * ld);
+    return false;
+  }
+  double* r = a11 + static_cast<int64_t>(b) * ld;
+  if (m > 0) {
+    const double one = 1, minus_one = -1;
+    dtrsm_("L", "U", "T", "N", &b, &m, &one, a11, &ld, r, &ld);           // X = R Lc^-T
+    dsyrk_("U", "T", &m, &b, &minus_one, r, &ld, &one, r + b, &ld);         // A22 -= X X^T
+  }
+  // To unit L and D: column j of Lc (rows below j, in A11 and in R) divided by Lc_jj.
+  for (int j = 0; j < b; ++j) {
+    const double l = a11[static_cast<int64_t>(j) * ld + j];
+    w[j] = 1.0 / l;
+    a11[static_cast<int64_t>(j) * ld + j] = l * l;
+    inv_d[j] = w[j] * w[j];
+  }
+  for (int i = 1; i < b + m; ++i) {
+    double* ai = a11 + static_cast<int64_t>(i) * ld;
+    const int cols = std::min(i, b);
+    for (int j = 0; j < cols; ++j) ai[j] *= w[j];
+  }
+  return true;
+}
+
+// Right-looking by panels of kPanel columns [j0, j1): a positive definite panel by
+// cholesky_panel; otherwise factor the diagonal block by the triple loop; below it R = A21
+// becomes W = R L11^-T (kept in w) and L21 = W D1^-1 (over R), since A21 = L21 D1 L11^T; then
+// A22 -= W L21^T, lower triangle, with dgemm. Same arithmetic as the unblocked loop up to the
+// order of the sums (and, in Cholesky panels, the square roots).
 int ldl_blocked(double* a, int n, int ld, const double* floor, double* inv_d, double* w) {
   for (int j0 = 0; j0 < n; j0 += kPanel) {
     const int b = std::min(kPanel, n - j0), m = n - j0 - b;
     double* a11 = a + static_cast<int64_t>(j0) * ld + j0;
+    if (cholesky_panel(a11, b, m, ld, floor + j0, inv_d + j0, w)) continue;
     const int bad = ldl_unblocked(a11, b, ld, floor + j0, inv_d + j0);
     if (bad >= 0) return j0 + bad;
     if (m == 0) break;
