@@ -41,7 +41,10 @@ struct SymbolicOptions {
   // huge value) keeps every pivot alone. A front of under 128 rows is faster per block: heavy-22's
   // 89-row dense H factors in 25 us per block and 34 us as one BLAS supernode, bcsstk02's 66 in
   // 11 and 33 us; heavy-63's 260 in 468 against 386 us (papers/factor.md, "Supernodes").
-  int supernode_min_rows = 32;
+  // 16 rows rather than the 32 first chosen, with blas_min_rows, once small supernodes and
+  // Cholesky panels came: bcsstk13 0.94x the time, every other factor_bench problem within 2 %
+  // ("Small supernodes").
+  int supernode_min_rows = 16;
   int supernode_min_front = 128;
   // A run of nested pivots that is not one supernode by the two rules above is cut into
   // supernodes of at most this many rows (greedily, in pivot order), which the unrolled kernels
@@ -53,7 +56,7 @@ struct SymbolicOptions {
   int small_supernode_max_rows = 6;
   // Supernodes of at least this many rows are eliminated with dense.h (BLAS), the rest with the
   // kernels of kernels.h at their width.
-  int blas_min_rows = 32;
+  int blas_min_rows = 16;
   // The RSI's budget: at most this many indices per entry of L (nnz_l). Over it, the supernodes
   // with the most runs scatter through a map of each target supernode's rows instead, built by
   // the numeric phase in O(rows of the target) (CHOLMOD's relative map, Map in
