@@ -104,7 +104,7 @@ Command add_bench_command(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--small-supernode-max-rows", o->symbolic.small_supernode_max_rows,
-                  "Rows of the small supernodes a shorter run of nested pivots is cut into (1: none)")
+                  "Rows of the small supernodes a run of nested pivots not made one supernode is cut into (1: none)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1 << 20));
   cmd->add_option("--blas-min-rows", o->symbolic.blas_min_rows, "Rows from which a supernode is eliminated with BLAS (0: never)")

@@ -20,9 +20,10 @@ inline constexpr int kRowPanel = 128;
 // place, as kernels::ldl_node: unit-lower L below the diagonal, D on it, inv_d = 1 / D, floor[j]
 // the zero-pivot threshold of pivot j. Returns the first pivot that is zero or not finite, or -1.
 // A panel that is positive definite runs LAPACK's Cholesky (dpotrf, dtrsm, dsyrk) and is
-// rescaled to L and D; an indefinite one runs the LDL^T loop. On one 260-row dense front
-// (heavy-63) 196 against 267 us for the loop alone, LAPACK's dpotrf of the whole block 188-201
-// (papers/factor.md, "Cholesky panels"). w: scratch of n * kPanel doubles.
+// rescaled to L and D; an indefinite one runs the LDL^T loop. On a random positive definite
+// 260-row block 196 against 267 us for the loop alone (LAPACK's dpotrf of the whole block
+// 188-201); heavy-63's factorization 227 against 290 us (papers/factor.md, "Small supernodes
+// and Cholesky panels"). w: scratch of n * kPanel doubles.
 int ldl_blocked(double* a, int n, int ld, const double* floor, double* inv_d, double* w);
 
 // W = E L^-T (into w, h x n row-major) and Y = W D^-1 (over e), node = L D L^T factored.

@@ -37,13 +37,13 @@ namespace ldlpgs {
 // eliminates with BLAS. The defaults come from measurements (papers/factor.md, "Supernodes").
 struct SymbolicOptions {
   // A maximal run of nested pivots becomes one supernode when it has at least this many rows
-  // and its front (its rows and the rows of L below them) at least supernode_min_front; 0 (or a
-  // huge value) keeps every pivot alone. A front of under 128 rows is faster per block: heavy-22's
+  // and its front (its rows and the rows of L below them) at least supernode_min_front; 0 keeps
+  // every pivot alone (a huge value cuts every run into small supernodes, below). A front of under 128 rows is faster per block: heavy-22's
   // 89-row dense H factors in 25 us per block and 34 us as one BLAS supernode, bcsstk02's 66 in
   // 11 and 33 us; heavy-63's 260 in 468 against 386 us (papers/factor.md, "Supernodes").
   // 16 rows rather than the 32 first chosen, with blas_min_rows, once small supernodes and
-  // Cholesky panels came: bcsstk13 0.94x the time, every other factor_bench problem within 2 %
-  // ("Small supernodes").
+  // Cholesky panels came: bcsstk13 0.94x the time, every other factor_bench problem within
+  // -5 % to +1.4 % ("Small supernodes and Cholesky panels").
   int supernode_min_rows = 16;
   int supernode_min_front = 128;
   // A run of nested pivots that is not one supernode by the two rules above is cut into
@@ -51,8 +51,8 @@ struct SymbolicOptions {
   // of that width eliminate (kernels.h unrolls 1-6): scalar pivots of structural matrices pay the
   // per-pivot cost once per 6 rows, and two 3-row blocks of a grid run as one 6-row kernel.
   // Measured with factor_bench, before/after binaries alternated (papers/factor.md, "Small
-  // supernodes"): dwt_992 0.53x the time, bcsstk13 0.61x, jagmesh7 0.66x, the mechanisms within
-  // -6..+5 %. 1 (or supernode_min_rows 0) keeps such pivots alone.
+  // supernodes and Cholesky panels"): dwt_992 0.53x the time, bcsstk13 0.61x, jagmesh7 0.66x,
+  // heavy-22 0.89x, the other mechanisms within -6..+5 %. 1 (or supernode_min_rows 0) keeps such pivots alone.
   int small_supernode_max_rows = 6;
   // Supernodes of at least this many rows are eliminated with dense.h (BLAS), the rest with the
   // kernels of kernels.h at their width.
@@ -68,7 +68,8 @@ struct SymbolicOptions {
   // ... but never below this many indices (2^18, 1 MB), unless rsi_max_per_entry is 0: the maps
   // cost 1.4-3x on the small scalar-block test matrices, whose runs are 5-10 indices per entry
   // of L but under 300k in all (dwt_992: 1.07 ms mapped against 0.45 ms with runs, 294k
-  // indices), while bcsstk13 (2.6M), where the budget is L's size, keeps its 292k.
+  // indices), while on bcsstk13 (2.3M runs then, 0.74M since the small supernodes) the budget
+  // or this floor binds: 261,616 indices with best's order (nnz(L) 253,999).
   int64_t rsi_min_entries = int64_t{1} << 18;
 };
 

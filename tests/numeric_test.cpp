@@ -36,7 +36,9 @@ struct Case {
   // nested pivots merged and eliminated with dense.h however narrow, so the BLAS path meets
   // every family and partition and not only the few wide fronts the defaults give it; both with
   // RSI runs only. "mapped" and "blas-mapped": the same two with every supernode scattering
-  // through relative maps (SymbolicOptions::rsi_max_per_entry = 0).
+  // through relative maps (SymbolicOptions::rsi_max_per_entry = 0). "small-blas": the defaults
+  // but blas_min_rows 2, so the small supernodes (runs cut into pieces of up to 6 rows) run on
+  // dense.h too.
   std::string supernodes = "default";
 };
 
@@ -49,6 +51,7 @@ SymbolicOptions symbolic_options(const Case& c) {
   if (c.supernodes == "blas") return {.supernode_min_rows = 1, .supernode_min_front = 0, .blas_min_rows = 1, .rsi_max_per_entry = -1};
   if (c.supernodes == "mapped") return {.supernode_min_rows = 0, .rsi_max_per_entry = 0};
   if (c.supernodes == "blas-mapped") return {.supernode_min_rows = 1, .supernode_min_front = 0, .blas_min_rows = 1, .rsi_max_per_entry = 0};
+  if (c.supernodes == "small-blas") return {.blas_min_rows = 2};
   return {};
 }
 
@@ -170,7 +173,7 @@ std::vector<Case> cases() {
         if (name == "bcsstk13.mtx" && o == "natural") continue;  // dense fill: minutes, nothing new
         out.push_back({name, partition, o});
         if (o == "meca-w" || o == "amd-scalar")
-          for (const char* supernodes : {"none", "blas", "mapped", "blas-mapped"}) out.push_back({name, partition, o, supernodes});
+          for (const char* supernodes : {"none", "blas", "mapped", "blas-mapped", "small-blas"}) out.push_back({name, partition, o, supernodes});
       }
   }
   for (std::string_view family : family_names())
@@ -180,7 +183,7 @@ std::vector<Case> cases() {
           const std::string name = std::string(family) + "-" + std::to_string(size);
           out.push_back({name, partition, o});
           if (o == "meca-w" || o == "amd-scalar")
-            for (const char* supernodes : {"none", "blas", "mapped", "blas-mapped"}) out.push_back({name, partition, o, supernodes});
+            for (const char* supernodes : {"none", "blas", "mapped", "blas-mapped", "small-blas"}) out.push_back({name, partition, o, supernodes});
         }
   return out;
 }

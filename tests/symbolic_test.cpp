@@ -126,9 +126,11 @@ void expect_consistent(const SymmetricCsc& a, const BlockPattern& blocks, const 
 }
 
 // Every pivot alone; the defaults; every run of nested pivots merged, however narrow.
-// Each with RSI runs only, and with every supernode mapped (the defaults: some of each).
+// Each with RSI runs only, and with every supernode mapped (the defaults: some of each). And the
+// defaults with the small supernodes on BLAS.
 const SymbolicOptions kSupernodeChoices[] = {{.supernode_min_rows = 0, .rsi_max_per_entry = -1},
                                              {},
+                                             {.blas_min_rows = 2},
                                              {.supernode_min_rows = 1, .supernode_min_front = 0, .rsi_max_per_entry = -1},
                                              {.supernode_min_rows = 0, .rsi_max_per_entry = 0},
                                              {.supernode_min_rows = 1, .supernode_min_front = 0, .rsi_max_per_entry = 0}};
