@@ -10,6 +10,8 @@
 #include <random>
 #include <vector>
 
+extern "C" void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info);
+
 namespace ldlpgs {
 namespace {
 
@@ -73,6 +75,21 @@ TEST(Dense, PositiveDefiniteBlocksByCholeskyPanels) {
     const Matrix a = spd(n, static_cast<unsigned>(n));
     expect_factors(a, factor(a));
   }
+}
+
+// The positive definite panel is LAPACK's: for one panel D_j is exactly the square of dpotrf's
+// Lc_jj (computed here on the same block), which the LDL^T loop does not reproduce bit for bit
+// (its pivots are a_jj - sum l_jk^2 d_k, not squares of square roots).
+TEST(Dense, PositiveDefinitePanelIsLapacksCholesky) {
+  const int n = dense::kPanel;
+  const Matrix a = spd(n, 11);
+  Matrix lc = a;
+  int info = 0;
+  dpotrf_("U", &n, lc.data(), &n, &info);  // row-major lower = column-major upper
+  ASSERT_EQ(info, 0);
+  const Result r = factor(a);
+  ASSERT_EQ(r.bad, -1);
+  for (int j = 0; j < n; ++j) EXPECT_EQ(r.d(j, j), lc(j, j) * lc(j, j)) << j;
 }
 
 // Negative pivots in the second panel only, in the first only, in every panel: the panels that
