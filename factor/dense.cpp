@@ -49,6 +49,15 @@ void lower_gemm(double alpha, const double* a, int lda, const double* b, int ldb
   }
 }
 
+// Pivot d counts as zero at or below its floor, or when not finite (kernels::ldl_node's test).
+bool zero_pivot(double d, double floor) { return !(std::abs(d) > floor) || !std::isfinite(d); }
+
+// The lower triangle of the b x b block src (row stride ld_src) into dst (row stride ld_dst).
+void copy_lower(const double* src, int ld_src, double* dst, int ld_dst, int b) {
+  for (int i = 0; i < b; ++i)
+    std::copy_n(src + static_cast<int64_t>(i) * ld_src, i + 1, dst + static_cast<int64_t>(i) * ld_dst);
+}
+
 // kernels::ldl_node's triple loop with a row stride: one panel's diagonal block.
 int ldl_unblocked(double* a, int n, int ld, const double* floor, double* inv_d) {
   for (int j = 0; j < n; ++j) {
@@ -56,7 +65,7 @@ int ldl_unblocked(double* a, int n, int ld, const double* floor, double* inv_d) 
     double d = aj[j];
     for (int k = 0; k < j; ++k) d -= aj[k] * aj[k] * a[static_cast<int64_t>(k) * ld + k];
     aj[j] = d;
-    if (!(std::abs(d) > floor[j]) || !std::isfinite(d)) return j;
+    if (zero_pivot(d, floor[j])) return j;
     const double inv = 1.0 / d;
     inv_d[j] = inv;
     for (int i = j + 1; i < n; ++i) {
@@ -80,16 +89,16 @@ int ldl_unblocked(double* a, int n, int ld, const double* floor, double* inv_d) 
 // block is indefinite or singular) or a pivot is at or below its floor; the caller then runs the
 // LDL^T panel, which finds the same pivot or factors an indefinite block.
 bool cholesky_panel(double* a11, int b, int m, int ld, const double* floor, double* inv_d, double* w) {
-  for (int i = 0; i < b; ++i) std::copy_n(a11 + static_cast<int64_t>(i) * ld, i + 1, w + static_cast<int64_t>(i) * b);
+  copy_lower(a11, ld, w, b, b);
   int info = 0;
   dpotrf_("U", &b, a11, &ld, &info);  // row-major lower Lc = BLAS's upper U = Lc^T
   bool ok = info == 0;
   for (int j = 0; ok && j < b; ++j) {
-    const double l = a11[static_cast<int64_t>(j) * ld + j], d = l * l;
-    ok = d > floor[j] && std::isfinite(d);
+    const double l = a11[static_cast<int64_t>(j) * ld + j];
+    ok = !zero_pivot(l * l, floor[j]);
   }
   if (!ok) {
-    for (int i = 0; i < b; ++i) std::copy_n(w + static_cast<int64_t>(i) * b, i + 1, a11 + static_cast<int64_t>(i) * ld);
+    copy_lower(w, b, a11, ld, b);
     return false;
   }
   double* r = a11 + static_cast<int64_t>(b) * ld;

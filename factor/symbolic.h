@@ -38,9 +38,10 @@ namespace ldlpgs {
 struct SymbolicOptions {
   // A maximal run of nested pivots becomes one supernode when it has at least this many rows
   // and its front (its rows and the rows of L below them) at least supernode_min_front; 0 keeps
-  // every pivot alone (a huge value cuts every run into small supernodes, below). A front of under 128 rows is faster per block: heavy-22's
-  // 89-row dense H factors in 25 us per block and 34 us as one BLAS supernode, bcsstk02's 66 in
-  // 11 and 33 us; heavy-63's 260 in 468 against 386 us (papers/factor.md, "Supernodes").
+  // every pivot alone (a huge value cuts every run into small supernodes, below). A front of
+  // under 128 rows is faster per block: heavy-22's 89-row dense H factors in 25 us per block and
+  // 34 us as one BLAS supernode, bcsstk02's 66 in 11 and 33 us; heavy-63's 260 in 468 against
+  // 386 us (papers/factor.md, "Supernodes").
   // 16 rows rather than the 32 first chosen, with blas_min_rows, once small supernodes and
   // Cholesky panels came: bcsstk13 0.94x the time, every other factor_bench problem within
   // -5 % to +1.4 % ("Small supernodes and Cholesky panels").
@@ -52,7 +53,8 @@ struct SymbolicOptions {
   // per-pivot cost once per 6 rows, and two 3-row blocks of a grid run as one 6-row kernel.
   // Measured with factor_bench, before/after binaries alternated (papers/factor.md, "Small
   // supernodes and Cholesky panels"): dwt_992 0.53x the time, bcsstk13 0.61x, jagmesh7 0.66x,
-  // heavy-22 0.89x, the other mechanisms within -6..+5 %. 1 (or supernode_min_rows 0) keeps such pivots alone.
+  // heavy-22 0.89x, the other mechanisms within -6..+5 %. 1 (or supernode_min_rows 0) keeps
+  // such pivots alone.
   int small_supernode_max_rows = 6;
   // Supernodes of at least this many rows are eliminated with dense.h (BLAS), the rest with the
   // kernels of kernels.h at their width.
