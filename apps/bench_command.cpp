@@ -107,6 +107,11 @@ Command add_bench_command(CLI::App& app) {
                   "Rows of the small supernodes a run of nested pivots not made one supernode is cut into (1: none)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1 << 20));
+  cmd->add_option("--relax-max-zeros", o->symbolic.relax_max_zeros,
+                  "Explicit zeros (a fraction of the entries below its diagonal) a small supernode may store to take "
+                  "pivots that do not nest (0: none)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--blas-min-rows", o->symbolic.blas_min_rows, "Rows from which a supernode is eliminated with BLAS (0: never)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);

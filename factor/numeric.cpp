@@ -352,30 +352,42 @@ SymmetricCsc Numeric::scalar_ldl() const {
   l.n = s.num_rows();
   l.col_ptr.assign(1, 0);
   const double* v = values_.data();
+  // The blocks of pivot k's column (L's block structure): a relaxed supernode (SymbolicOptions::
+  // relax_max_zeros) stores its columns over the union of their rows, and its explicit zeros
+  // are left out, as CHOLMOD's own relaxed zeros are not in its simplicial L.
+  std::vector<uint8_t> in_column(s.num_pivots(), 0);  // (size num_pivots)
   for (int t = 0; t < s.num_supernodes(); ++t) {
     const int64_t d = s.supernode_size(t), h = s.supernode_height(t);
     const int r0 = s.supernode_row_start(t);
     const double* node = v + s.node_offset(t);
     const double* lb = v + s.column_offset(t);
     const int* rows = s.column_rows(t);
-    for (int c = 0; c < d; ++c) {
-      l.row_idx.push_back(r0 + c);
-      l.values.push_back(std::ldexp(node[c * d + c], scale_));  // D of H, not of 2^-e H
-      for (int r = c + 1; r < d; ++r) {
-        l.row_idx.push_back(r0 + r);
-        l.values.push_back(node[r * d + c]);
+    const bool single = keeps_l(steps_[t]);
+    for (int k = s.supernode_begin(t); k < s.supernode_begin(t + 1); ++k) {
+      for (const int j : s.edges(k)) in_column[j] = 1;
+      in_column[k] = 1;
+      for (int64_t c = s.row_start(k) - r0; c < s.row_start(k + 1) - r0; ++c) {
+        l.row_idx.push_back(r0 + static_cast<int>(c));
+        l.values.push_back(std::ldexp(node[c * d + c], scale_));  // D of H, not of 2^-e H
+        for (int64_t r = c + 1; r < d; ++r) {
+          if (!in_column[s.pivot_of_row(r0 + static_cast<int>(r))]) continue;
+          l.row_idx.push_back(r0 + static_cast<int>(r));
+          l.values.push_back(node[r * d + c]);
+        }
+        // Below the node the scalar L is Y = L_{*,k} L_kk: stored as it is, but for a fused
+        // chain column, which holds L_{*,k} (numeric.h).
+        for (int64_t r = 0; r < h; ++r) {
+          if (!in_column[s.pivot_of_row(rows[r])]) continue;
+          double sum = lb[r * d + c];
+          if (single)
+            for (int64_t m = c + 1; m < d; ++m) sum += lb[r * d + m] * node[m * d + c];
+          l.row_idx.push_back(rows[r]);
+          l.values.push_back(sum);
+        }
+        l.col_ptr.push_back(static_cast<int>(l.row_idx.size()));
       }
-      // Below the node the scalar L is Y = L_{*,k} L_kk: stored as it is, but for a fused
-      // chain column, which holds L_{*,k} (numeric.h).
-      const bool single = keeps_l(steps_[t]);
-      for (int r = 0; r < h; ++r) {
-        double sum = lb[r * d + c];
-        if (single)
-          for (int m = c + 1; m < d; ++m) sum += lb[r * d + m] * node[m * d + c];
-        l.row_idx.push_back(rows[r]);
-        l.values.push_back(sum);
-      }
-      l.col_ptr.push_back(static_cast<int>(l.row_idx.size()));
+      for (const int j : s.edges(k)) in_column[j] = 0;
+      in_column[k] = 0;
     }
   }
   return l;

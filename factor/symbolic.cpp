@@ -87,30 +87,56 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
 
   // Supernodes: maximal runs of nested pivots (k's first edge block is k + 1 and the rest of its
   // column is k + 1's: since k + 1 is then k's parent in the elimination tree, the rest is a subset
-  // of struct(k + 1), equal when the heights match), kept when wide enough (SymbolicOptions),
-  // else cut into small supernodes, each as many whole pivots as fit in
-  // small_supernode_max_rows rows (any consecutive part of a nested run nests).
+  // of struct(k + 1), equal when the heights match), kept when wide enough (SymbolicOptions).
+  // The other pivots form small supernodes greedily in pivot order, each as many whole pivots as
+  // fit in small_supernode_max_rows rows, where every pivot but the last has the next as its
+  // parent: any consecutive part of a nested run, and a relaxed one (CHOLMOD's relaxed
+  // amalgamation) when the explicit zeros it stores stay within relax_max_zeros. A parent chain
+  // keeps every block of the group's columns inside the group's rows and struct(last), so the
+  // layout (node block and the last pivot's E), the RSI and the load map need nothing else; the
+  // zeros are zeroed by the load like any value the load map misses.
   auto nests = [&](int k) {
     return s.edge_ptr_[k + 1] > s.edge_ptr_[k] && s.edge_pivot_[s.edge_ptr_[k]] == k + 1 &&
            s.height_[k] == s.size_[k + 1] + s.height_[k + 1];
   };
-  s.sn_begin_.assign(1, 0);
+  auto parent_is_next = [&](int k) {
+    return s.edge_ptr_[k + 1] > s.edge_ptr_[k] && s.edge_pivot_[s.edge_ptr_[k]] == k + 1;
+  };
+  // Explicit zeros and stored entries below the diagonal blocks of the group [first, last]:
+  // pivot i stores size_i (rows after it in the group + h_last) and holds size_i h_i.
+  auto relaxed_ok = [&](int first, int last) {
+    int64_t zeros = 0, stored = 0;
+    for (int i = first; i <= last; ++i) {
+      const int64_t below = s.row_start_[last + 1] - s.row_start_[i + 1] + s.height_[last];
+      stored += s.size_[i] * below;
+      zeros += s.size_[i] * (below - s.height_[i]);
+    }
+    return static_cast<double>(zeros) <= options.relax_max_zeros * static_cast<double>(stored);
+  };
+  std::vector<int> run_end(np, -1);  // at the first pivot of a run made one supernode: its end (size np)
   for (int k = 0; k < np;) {
     int end = k + 1;
     while (end < np && nests(end - 1)) ++end;
     const int rows = s.row_start_[end] - s.row_start_[k];
     if (options.supernode_min_rows > 0 && rows >= options.supernode_min_rows &&
-        rows + s.height_[end - 1] >= options.supernode_min_front) {
-      s.sn_begin_.push_back(end);
-    } else {
-      const int most = options.supernode_min_rows > 0 ? options.small_supernode_max_rows : 1;
-      for (int j = k + 1, first = k; j <= end; ++j)
-        if (j == end || s.row_start_[j + 1] - s.row_start_[first] > most) {
-          s.sn_begin_.push_back(j);
-          first = j;
-        }
-    }
+        rows + s.height_[end - 1] >= options.supernode_min_front)
+      std::fill(run_end.begin() + k, run_end.begin() + end, end);
     k = end;
+  }
+  s.sn_begin_.assign(1, 0);
+  const int most = options.supernode_min_rows > 0 ? options.small_supernode_max_rows : 1;
+  for (int k = 0; k < np;) {
+    if (run_end[k] >= 0) {
+      s.sn_begin_.push_back(k = run_end[k]);
+      continue;
+    }
+    // A small supernode from k: while the next pivot is the last one's parent, is not in a
+    // supernode of its own, fits, and nests or keeps the zeros within bounds.
+    int last = k;
+    while (last + 1 < np && run_end[last + 1] < 0 && parent_is_next(last) &&
+           s.row_start_[last + 2] - s.row_start_[k] <= most && (nests(last) || relaxed_ok(k, last + 1)))
+      ++last;
+    s.sn_begin_.push_back(k = last + 1);
   }
   const int ns = s.num_supernodes();
   s.sn_of_pivot_.resize(np);

@@ -56,6 +56,16 @@ struct SymbolicOptions {
   // heavy-22 0.89x, the other mechanisms within -6..+5 %. 1 (or supernode_min_rows 0) keeps
   // such pivots alone.
   int small_supernode_max_rows = 6;
+  // A small supernode may also take pivots that do not nest, when each is the previous one's
+  // parent (CHOLMOD's relaxed amalgamation: the group's columns are stored over the union of
+  // their rows, with explicit zeros), as long as the zeros are at most this fraction of the
+  // entries it stores below its diagonal blocks. 0: nested runs only. The factor's counts
+  // (nnz_l, flops) and Numeric::scalar_ldl stay those of L; num_values counts the zeros. factor_bench,
+  // 0 and 0.5 alternated, lowest of two medians: bcsstk13 0.92x the time, bcsstk01 0.68x,
+  // pts5ldd03 0.82x, 494_bus 0.86x, bcspwr06 0.86x, jagmesh7 0.94x, dwt_992 0.97x; the mechanisms
+  // within -3..+3 % (their 3-6-row blocks rarely fit two in 6 rows). 0.2-0.8 gave the same
+  // supernodes within 0.5 % on bcsstk13 (papers/factor.md, "Relaxed small supernodes").
+  double relax_max_zeros = 0.5;
   // Supernodes of at least this many rows are eliminated with dense.h (BLAS), the rest with the
   // kernels of kernels.h at their width.
   int blas_min_rows = 16;

@@ -302,6 +302,10 @@ TEST(LdlpgsBadInput, SmallSupernodeRowsBelowOne) {
   expect_input_error("bench chain:10 --small-supernode-max-rows 0", {"--small-supernode-max-rows", "not in range 1"});
 }
 
+TEST(LdlpgsBadInput, RelaxMaxZerosOutsideZeroToOne) {
+  expect_input_error("bench chain:10 --relax-max-zeros 1.5", {"--relax-max-zeros", "not in range"});
+}
+
 TEST(LdlpgsBadInput, UnknownSolver) { expect_input_error("step pendulum --solver magic", {"--solver", "magic", "ldl-pgs"}); }
 
 TEST(LdlpgsBadInput, DirectOnInequalities) {

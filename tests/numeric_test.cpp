@@ -37,8 +37,9 @@ struct Case {
   // every family and partition and not only the few wide fronts the defaults give it; both with
   // RSI runs only. "mapped" and "blas-mapped": the same two with every supernode scattering
   // through relative maps (SymbolicOptions::rsi_max_per_entry = 0). "small-blas": the defaults
-  // but blas_min_rows 2, so the small supernodes (runs cut into pieces of up to 6 rows) run on
-  // dense.h too.
+  // but blas_min_rows 2, so the small supernodes (runs cut into pieces of up to 6 rows, relaxed
+  // as far as they fit: relax_max_zeros 1) run on dense.h too; "relaxed": the same small
+  // supernodes on the unrolled kernels.
   std::string supernodes = "default";
 };
 
@@ -51,7 +52,8 @@ SymbolicOptions symbolic_options(const Case& c) {
   if (c.supernodes == "blas") return {.supernode_min_rows = 1, .supernode_min_front = 0, .blas_min_rows = 1, .rsi_max_per_entry = -1};
   if (c.supernodes == "mapped") return {.supernode_min_rows = 0, .rsi_max_per_entry = 0};
   if (c.supernodes == "blas-mapped") return {.supernode_min_rows = 1, .supernode_min_front = 0, .blas_min_rows = 1, .rsi_max_per_entry = 0};
-  if (c.supernodes == "small-blas") return {.blas_min_rows = 2};
+  if (c.supernodes == "small-blas") return {.relax_max_zeros = 1, .blas_min_rows = 2};
+  if (c.supernodes == "relaxed") return {.relax_max_zeros = 1};
   return {};
 }
 
@@ -173,7 +175,7 @@ std::vector<Case> cases() {
         if (name == "bcsstk13.mtx" && o == "natural") continue;  // dense fill: minutes, nothing new
         out.push_back({name, partition, o});
         if (o == "meca-w" || o == "amd-scalar")
-          for (const char* supernodes : {"none", "blas", "mapped", "blas-mapped", "small-blas"}) out.push_back({name, partition, o, supernodes});
+          for (const char* supernodes : {"none", "blas", "mapped", "blas-mapped", "small-blas", "relaxed"}) out.push_back({name, partition, o, supernodes});
       }
   }
   for (std::string_view family : family_names())
@@ -183,7 +185,7 @@ std::vector<Case> cases() {
           const std::string name = std::string(family) + "-" + std::to_string(size);
           out.push_back({name, partition, o});
           if (o == "meca-w" || o == "amd-scalar")
-            for (const char* supernodes : {"none", "blas", "mapped", "blas-mapped", "small-blas"}) out.push_back({name, partition, o, supernodes});
+            for (const char* supernodes : {"none", "blas", "mapped", "blas-mapped", "small-blas", "relaxed"}) out.push_back({name, partition, o, supernodes});
         }
   return out;
 }
