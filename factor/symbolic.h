@@ -77,12 +77,14 @@ struct SymbolicOptions {
   // per entry), so they keep them and their speed. 0: every supernode mapped; negative: none
   // (papers/factor.md, "Relative maps", measures both).
   double rsi_max_per_entry = 1.0;
-  // ... but never below this many indices (2^18, 1 MB), unless rsi_max_per_entry is 0: the maps
-  // cost 1.4-3x on the small scalar-block test matrices, whose runs are 5-10 indices per entry
-  // of L but under 300k in all (dwt_992: 1.07 ms mapped against 0.45 ms with runs, 294k
-  // indices), while on bcsstk13 (2.3M runs then, 0.74M since the small supernodes) the budget
-  // or this floor binds: 261,616 indices with best's order (nnz(L) 253,999).
-  int64_t rsi_min_entries = int64_t{1} << 18;
+  // ... but never below this many indices (2^16, 256 KB), unless rsi_max_per_entry is 0: the
+  // maps cost up to 1.9x on the small scalar-block test matrices, whose runs outnumber their entries
+  // of L (`ldlpgs bench --rsi-min-entries 0`: dwt_992 284 against 276 us, bcspwr06 48 against
+  // 26, jagmesh7 95 against 74). It was 2^18 while those had up to 294k runs (dwt_992); since
+  // the small and relaxed supernodes the most is dwt_992's 59,690, so 2^16 keeps every one of
+  // them unmapped and leaves bcsstk13 the budget of its L: 252,094 indices for nnz(L) 253,999
+  // (260,184 under the old floor), 60 supernodes mapped against 57, its time within the noise.
+  int64_t rsi_min_entries = int64_t{1} << 16;
 };
 
 class Symbolic {
