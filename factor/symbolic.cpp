@@ -95,13 +95,10 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
   // keeps every block of the group's columns inside the group's rows and struct(last), so the
   // layout (node block and the last pivot's E), the RSI and the load map need nothing else; the
   // zeros are zeroed by the load like any value the load map misses.
-  auto nests = [&](int k) {
-    return s.edge_ptr_[k + 1] > s.edge_ptr_[k] && s.edge_pivot_[s.edge_ptr_[k]] == k + 1 &&
-           s.height_[k] == s.size_[k + 1] + s.height_[k + 1];
-  };
   auto parent_is_next = [&](int k) {
     return s.edge_ptr_[k + 1] > s.edge_ptr_[k] && s.edge_pivot_[s.edge_ptr_[k]] == k + 1;
   };
+  auto nests = [&](int k) { return parent_is_next(k) && s.height_[k] == s.size_[k + 1] + s.height_[k + 1]; };
   // Explicit zeros and stored entries below the diagonal blocks of the group [first, last]:
   // pivot i stores size_i (rows after it in the group + h_last) and holds size_i h_i.
   auto relaxed_ok = [&](int first, int last) {

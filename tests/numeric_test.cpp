@@ -47,6 +47,8 @@ void PrintTo(const Case& c, std::ostream* os) {
   *os << c.name << " blocks " << c.partition << " " << c.ordering << " supernodes " << c.supernodes;
 }
 
+const char* const kSupernodeConfigs[] = {"none", "blas", "mapped", "blas-mapped", "small-blas", "relaxed"};
+
 SymbolicOptions symbolic_options(const Case& c) {
   if (c.supernodes == "none") return {.supernode_min_rows = 0, .rsi_max_per_entry = -1};
   if (c.supernodes == "blas") return {.supernode_min_rows = 1, .supernode_min_front = 0, .blas_min_rows = 1, .rsi_max_per_entry = -1};
@@ -175,7 +177,7 @@ std::vector<Case> cases() {
         if (name == "bcsstk13.mtx" && o == "natural") continue;  // dense fill: minutes, nothing new
         out.push_back({name, partition, o});
         if (o == "meca-w" || o == "amd-scalar")
-          for (const char* supernodes : {"none", "blas", "mapped", "blas-mapped", "small-blas", "relaxed"}) out.push_back({name, partition, o, supernodes});
+          for (const char* supernodes : kSupernodeConfigs) out.push_back({name, partition, o, supernodes});
       }
   }
   for (std::string_view family : family_names())
@@ -185,7 +187,7 @@ std::vector<Case> cases() {
           const std::string name = std::string(family) + "-" + std::to_string(size);
           out.push_back({name, partition, o});
           if (o == "meca-w" || o == "amd-scalar")
-            for (const char* supernodes : {"none", "blas", "mapped", "blas-mapped", "small-blas", "relaxed"}) out.push_back({name, partition, o, supernodes});
+            for (const char* supernodes : kSupernodeConfigs) out.push_back({name, partition, o, supernodes});
         }
   return out;
 }

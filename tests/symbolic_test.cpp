@@ -172,38 +172,54 @@ TEST(Symbolic, LayoutRsiAndLoadMapOnMechanisms) {
   }
 }
 
+// The rows of each supernode of a (scalar partition `partition`) in natural pivot order.
+std::vector<int> natural_supernode_rows(const SymmetricCsc& a, const std::vector<int>& partition,
+                                        const SymbolicOptions& options) {
+  const BlockPattern blocks = BlockPattern::from_scalar(a, partition);
+  std::vector<int> natural(blocks.num_blocks());
+  for (int k = 0; k < blocks.num_blocks(); ++k) natural[k] = k;
+  const Symbolic s = Symbolic::analyze(a, blocks, natural, options);
+  std::vector<int> rows;
+  for (int t = 0; t < s.num_supernodes(); ++t) rows.push_back(s.supernode_size(t));
+  return rows;
+}
+
+// A tridiagonal pattern of n rows: a scalar chain.
+SymmetricCsc scalar_chain(int n) {
+  SymmetricCsc chain;
+  chain.n = n;
+  for (int c = 0; c < n; ++c) {
+    chain.col_ptr.push_back(static_cast<int>(chain.row_idx.size()));
+    chain.row_idx.push_back(c);
+    if (c + 1 < n) chain.row_idx.push_back(c + 1);
+  }
+  chain.col_ptr.push_back(static_cast<int>(chain.row_idx.size()));
+  chain.values.assign(chain.row_idx.size(), 1.0);
+  return chain;
+}
+
 // A dense matrix is one supernode whatever the order; a tridiagonal one (a chain) has none but
 // its last two pivots; the option's threshold is the run's rows. A run too narrow is cut into
 // small supernodes of at most small_supernode_max_rows rows, greedily in pivot order (none when
 // supernode_min_rows is 0).
 TEST(Symbolic, SupernodesAreTheMaximalNestedRunsWideEnough) {
   auto sizes = [](const SymmetricCsc& a, const std::vector<int>& partition, int min_rows, int small) {
-    const BlockPattern blocks = BlockPattern::from_scalar(a, partition);
-    std::vector<int> natural(blocks.num_blocks());
-    for (int k = 0; k < blocks.num_blocks(); ++k) natural[k] = k;
-    const Symbolic s = Symbolic::analyze(
-        a, blocks, natural,
+    return natural_supernode_rows(
+        a, partition,
         {.supernode_min_rows = min_rows, .supernode_min_front = 0, .small_supernode_max_rows = small, .relax_max_zeros = 0});
-    std::vector<int> rows;
-    for (int t = 0; t < s.num_supernodes(); ++t) rows.push_back(s.supernode_size(t));
-    return rows;
   };
   auto count = [&](const SymmetricCsc& a, int block, int min_rows, int small = 1) {
     return static_cast<int>(sizes(a, partition_uniform(a.n, block), min_rows, small).size());
   };
-  SymmetricCsc dense, chain;
-  dense.n = chain.n = 30;
+  const SymmetricCsc chain = scalar_chain(30);
+  SymmetricCsc dense;
+  dense.n = 30;
   for (int c = 0; c < 30; ++c) {
     dense.col_ptr.push_back(static_cast<int>(dense.row_idx.size()));
     for (int r = c; r < 30; ++r) dense.row_idx.push_back(r);
-    chain.col_ptr.push_back(static_cast<int>(chain.row_idx.size()));
-    chain.row_idx.push_back(c);
-    if (c + 1 < 30) chain.row_idx.push_back(c + 1);
   }
   dense.col_ptr.push_back(static_cast<int>(dense.row_idx.size()));
-  chain.col_ptr.push_back(static_cast<int>(chain.row_idx.size()));
   dense.values.assign(dense.row_idx.size(), 1.0);
-  chain.values.assign(chain.row_idx.size(), 1.0);
   EXPECT_EQ(count(dense, 3, 16), 1);
   EXPECT_EQ(count(dense, 3, 31), 10);  // 30 rows: too narrow for 31
   EXPECT_EQ(count(dense, 3, 0), 10);
@@ -227,23 +243,9 @@ TEST(Symbolic, SupernodesAreTheMaximalNestedRunsWideEnough) {
 // L, so (g-1)/(g+1) of them are zeros: 1/3 for pairs, 1/2 for threes, 5/7 for sixes. The
 // greedy groups are the largest g within relax_max_zeros and small_supernode_max_rows.
 TEST(Symbolic, RelaxedSmallSupernodesStoreZerosWithinTheirBound) {
-  SymmetricCsc chain;
-  chain.n = 30;
-  for (int c = 0; c < 30; ++c) {
-    chain.col_ptr.push_back(static_cast<int>(chain.row_idx.size()));
-    chain.row_idx.push_back(c);
-    if (c + 1 < 30) chain.row_idx.push_back(c + 1);
-  }
-  chain.col_ptr.push_back(static_cast<int>(chain.row_idx.size()));
-  chain.values.assign(chain.row_idx.size(), 1.0);
-  const BlockPattern blocks = BlockPattern::from_scalar(chain, partition_uniform(30, 1));
-  std::vector<int> natural(30);
-  for (int k = 0; k < 30; ++k) natural[k] = k;
+  const SymmetricCsc chain = scalar_chain(30);
   auto sizes = [&](double relax, int small) {
-    const Symbolic s = Symbolic::analyze(chain, blocks, natural, {.small_supernode_max_rows = small, .relax_max_zeros = relax});
-    std::vector<int> rows;
-    for (int t = 0; t < s.num_supernodes(); ++t) rows.push_back(s.supernode_size(t));
-    return rows;
+    return natural_supernode_rows(chain, partition_uniform(30, 1), {.small_supernode_max_rows = small, .relax_max_zeros = relax});
   };
   std::vector<int> pairs_but_last(28, 1);
   pairs_but_last.push_back(2);
@@ -258,9 +260,8 @@ TEST(Symbolic, RelaxedSmallSupernodesStoreZerosWithinTheirBound) {
 
 // The RSI stays within its budget of indices per entry of L on every test matrix, mapping the
 // supernodes with the most runs; bcsstk13's runs alone are 2.2 per entry (2.8 before the relaxed
-// supernodes, 7.9 before the small
-// supernodes), so there the budget binds (and the coordinate check above, skipped for bcsstk13,
-// covers mapped supernodes on the others through kSupernodeChoices).
+// supernodes, 7.9 before the small ones), so there the budget binds (and the coordinate check
+// above, skipped for bcsstk13, covers mapped supernodes on the others through kSupernodeChoices).
 TEST(Symbolic, RsiStaysWithinItsBudget) {
   for (const auto& m : testing::test_matrices()) {
     SCOPED_TRACE(m.name);
