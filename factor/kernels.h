@@ -87,16 +87,30 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
     }
   } else {
     // The pivots form a chain: d_j needs l_jk = u_jk / d_k for every k < j, u_jk = l_jk d_k
-    // being the value before its scaling. d_j = a_jj - sum u_jk l_jk, with u_jk kept from before
-    // the scaling, leaves two multiplies and a subtract between two divisions (l_jk l_jk d_k left
-    // three multiplies and a subtract). u_jk^2 (1 / d_k) would leave one multiply, but u^2
-    // overflows for |u| > 2^512 where u^2 / d does not (a positive definite 3 x 3 with entries
-    // near 1e200 gave a pivot of -inf: found in review, Numeric.LargeEntriesOfAPositiveDefiniteNode).
-    double ul[N * N];  // ul[i N + j] = u_ij l_ij, i > j
+    // being the value before its scaling, and d_j = a_jj - sum_k u_jk^2 / d_k. On a chain or a
+    // loop each node waits for the one before it, so the time per pivot is this chain's
+    // latency: the division, then u^2 / d and the subtraction that ends d_{j+1}. u_jk^2 is
+    // squared while the division runs, leaving one multiply between 1 / d_j and d_{j+1}
+    // (u_jk l_jk, kept before, left two): factor_bench, before/after alternated on both cores,
+    // loop 0.92-0.96x the time, chain 0.97x, the rest 0.96-1.05x (papers/factor.md, "The
+    // pivot's latency"). u^2 overflows for |u| > 2^512 where u^2 / d does not (a positive definite
+    // 3 x 3 with entries near 1e200 gave a pivot of -inf: found in review,
+    // Numeric.LargeEntriesOfAPositiveDefiniteNode): a pivot that fails its check is computed
+    // again from u_jk l_jk, kept in u, before it is reported, so an overflow of the squares
+    // never fails a pivot that the products pass. A square that underflows (|u| < 2^-511) is
+    // off by at most 2^-1075, so d_i by 2^-1075 / |d_j|: below the rounding of d_i unless d_j
+    // sits near its zero-pivot floor (1e-12 |H_jj|) and H's diagonal near 2^-500, where prepare()
+    // starts to scale.
+    double ul[N * N];  // ul[i N + j] = u_ij^2 / d_j, i > j
+    double u[N * N];   // u_ij, i > j
     LDLPGS_UNROLL for (int j = 0; j < N; ++j) {
       double* aj = a + j * N;
       double d = aj[j];
       LDLPGS_UNROLL for (int k = 0; k < j; ++k) d -= ul[j * N + k];
+      if (!(__builtin_fabs(d) > floor[j]) || !__builtin_isfinite(d)) {
+        d = aj[j];
+        LDLPGS_UNROLL for (int k = 0; k < j; ++k) d -= u[j * N + k] * aj[k];
+      }
       aj[j] = d;
       if (!(__builtin_fabs(d) > floor[j]) || !__builtin_isfinite(d)) return j;
       const double inv = 1.0 / d;
@@ -105,9 +119,9 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
         double* ai = a + i * N;
         double s = ai[j];
         LDLPGS_UNROLL for (int k = 0; k < j; ++k) s -= ai[k] * (aj[k] * a[k * N + k]);
-        const double l = s * inv;
-        ul[i * N + j] = s * l;
-        ai[j] = l;
+        u[i * N + j] = s;
+        ul[i * N + j] = (s * s) * inv;
+        ai[j] = s * inv;
       }
     }
   }
