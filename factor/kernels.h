@@ -68,8 +68,8 @@ template <int N>
 inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
   const int m = N ? N : n;
   if constexpr (N == 0) {
-    // Sizes over 6, given at run time: the recurrence below needs an m x m array of u l on the
-    // stack, unbounded here, so this path keeps l_jk l_jk d_k.
+    // Sizes over 6, given at run time: the recurrence below needs two m x m arrays (u and
+    // u^2 / d) on the stack, unbounded here, so this path keeps l_jk l_jk d_k.
     for (int j = 0; j < m; ++j) {
       double* aj = a + j * m;
       double d = aj[j];
@@ -98,9 +98,10 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
     // Numeric.LargeEntriesOfAPositiveDefiniteNode): a pivot that fails its check is computed
     // again from u_jk l_jk, kept in u, before it is reported, so an overflow of the squares
     // never fails a pivot that the products pass. A square that underflows (|u| < 2^-511) is
-    // off by at most 2^-1075, so d_i by 2^-1075 / |d_j|: below the rounding of d_i unless d_j
-    // sits near its zero-pivot floor (1e-12 |H_jj|) and H's diagonal near 2^-500, where prepare()
-    // starts to scale.
+    // off by up to 2^-1075 per term, so d_i by up to (N - 1) 2^-1075 / |d_j|: above d_i's own
+    // rounding only where |d_i d_j| is below about N 2^-1022, a nearly singular node block at
+    // the bottom of the range (a zero_pivot of 0 lets d_j down to the smallest normal double;
+    // prepare() leaves diagonals below 2^-500 when H's spans more than 2^1000).
     double ul[N * N];  // ul[i N + j] = u_ij^2 / d_j, i > j
     double u[N * N];   // u_ij, i > j
     LDLPGS_UNROLL for (int j = 0; j < N; ++j) {
