@@ -49,7 +49,7 @@ void lower_gemm(double alpha, const double* a, int lda, const double* b, int ldb
   }
 }
 
-// Pivot d counts as zero at or below its floor, or when not finite (kernels::ldl_node's test).
+// Pivot d counts as zero at or below its floor, or when not finite (kernels::zero_pivot's test).
 bool zero_pivot(double d, double floor) { return !(std::abs(d) > floor) || !std::isfinite(d); }
 
 // The lower triangle of the b x b block src (row stride ld_src) into dst (row stride ld_dst).

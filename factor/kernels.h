@@ -57,6 +57,11 @@ inline double dot(const double* x, const double* y, int n) {
   return s;
 }
 
+// Pivot d counts as zero at or below `floor` in magnitude, or when not finite (NaN fails every
+// comparison, so the test is !(|d| > floor)). dense.cpp's zero_pivot is the same test for the
+// BLAS path; this one uses builtins, as everything here must.
+inline bool zero_pivot(double d, double floor) { return !(__builtin_fabs(d) > floor) || !__builtin_isfinite(d); }
+
 // Dense LDL^T of the d x d node block in place (the talk's ldlDecompose<degree>): on return the
 // strict lower triangle holds the unit-lower L, the diagonal holds D. No pivoting: the block
 // ordering fixed the order. floor[j] is the magnitude at or below which pivot j counts as zero;
@@ -75,7 +80,7 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
       double d = aj[j];
       for (int k = 0; k < j; ++k) d -= aj[k] * aj[k] * a[k * m + k];
       aj[j] = d;
-      if (!(__builtin_fabs(d) > floor[j]) || !__builtin_isfinite(d)) return j;
+      if (zero_pivot(d, floor[j])) return j;
       const double inv = 1.0 / d;
       inv_d[j] = inv;
       for (int i = j + 1; i < m; ++i) {
@@ -100,20 +105,20 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
     // never fails a pivot that the products pass. A square that underflows (|u| < 2^-511) is
     // off by up to 2^-1075 per term, so d_i by up to (N - 1) 2^-1075 / |d_j|: above d_i's own
     // rounding only where |d_i d_j| is below about N 2^-1022, a nearly singular node block at
-    // the bottom of the range (a zero_pivot of 0 lets d_j down to the smallest normal double;
-    // prepare() leaves diagonals below 2^-500 when H's spans more than 2^1000).
+    // the bottom of the range (FactorOptions::zero_pivot = 0 lets d_j down to the smallest
+    // normal double; prepare() leaves diagonals below 2^-500 when H's spans more than 2^1000).
     double ul[N * N];  // ul[i N + j] = u_ij^2 / d_j, i > j
     double u[N * N];   // u_ij, i > j
     LDLPGS_UNROLL for (int j = 0; j < N; ++j) {
       double* aj = a + j * N;
       double d = aj[j];
       LDLPGS_UNROLL for (int k = 0; k < j; ++k) d -= ul[j * N + k];
-      if (!(__builtin_fabs(d) > floor[j]) || !__builtin_isfinite(d)) {
+      if (zero_pivot(d, floor[j])) {
         d = aj[j];
         LDLPGS_UNROLL for (int k = 0; k < j; ++k) d -= u[j * N + k] * aj[k];
       }
       aj[j] = d;
-      if (!(__builtin_fabs(d) > floor[j]) || !__builtin_isfinite(d)) return j;
+      if (zero_pivot(d, floor[j])) return j;
       const double inv = 1.0 / d;
       inv_d[j] = inv;
       LDLPGS_UNROLL for (int i = j + 1; i < N; ++i) {
