@@ -33,6 +33,7 @@ int mapped_supernodes(const Symbolic& s) {
 struct Timing {
   std::string name;
   bool ok = false;
+  std::string failure;  // DirectSolver::failure() when !ok
   double factor_us = NAN, solve_us = NAN, backward_error = NAN;
 };
 
@@ -62,7 +63,10 @@ double median_us(F&& f) {
 Timing time_solver(DirectSolver& s, const SymmetricCsc& a) {
   Timing t;
   t.name = s.name();
-  if (!(t.ok = s.factor())) return t;
+  if (!(t.ok = s.factor())) {
+    t.failure = s.failure();
+    return t;
+  }
   std::vector<double> b(a.n), x(a.n);
   for (int i = 0; i < a.n; ++i) b[i] = 1.0 + 0.5 * std::sin(i);
   x = b;
@@ -171,6 +175,7 @@ Command add_bench_command(CLI::App& app) {
         j[prefix + "factor_us"] = t ? number_or_null(t->factor_us) : nlohmann::json(nullptr);
         j[prefix + "solve_us"] = t ? number_or_null(t->solve_us) : nlohmann::json(nullptr);
         j[prefix + "backward_error"] = t ? number_or_null(t->backward_error) : nlohmann::json(nullptr);
+        j[prefix + "failure"] = t && !t->ok ? nlohmann::json(t->failure) : nlohmann::json(nullptr);
       }
       print_json(json_header("bench", std::move(j)));
     } else {
@@ -182,15 +187,19 @@ Command add_bench_command(CLI::App& app) {
                   "backward err", "fact+solve ratio");
       for (const Timing& t : timings) {
         if (!t.ok) {
-          std::printf("%-20s failed to factor\n", t.name.c_str());
+          std::printf("%-20s failed to factor: %s\n", t.name.c_str(), t.failure.c_str());
           continue;
         }
-        std::printf("%-20s %12.2f %12.2f %12.3f %14.1e %15.2fx\n", t.name.c_str(), t.factor_us, t.solve_us,
-                    flops / (t.factor_us * 1e3), t.backward_error,
-                    (t.factor_us + t.solve_us) / (mine.factor_us + mine.solve_us));
+        std::printf("%-20s %12.2f %12.2f %12.3f %14.1e", t.name.c_str(), t.factor_us, t.solve_us,
+                    flops / (t.factor_us * 1e3), t.backward_error);
+        if (mine.ok) std::printf(" %15.2fx\n", (t.factor_us + t.solve_us) / (mine.factor_us + mine.solve_us));
+        else std::printf(" %16s\n", "-");
       }
       std::printf("(medians; ratio = the solver's factor + solve time over ldlpgs's)\n");
     }
+    // A matrix our factorization refuses is a numerical failure, not bad input: exit 1, and the
+    // pivot it stopped at on stderr (the table and the JSON say it too).
+    if (!mine.ok) std::fprintf(stderr, "ldlpgs: %s: the factorization failed: %s\n", p.name.c_str(), mine.failure.c_str());
     return mine.ok ? 0 : 1;
   };
 }

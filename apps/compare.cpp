@@ -256,6 +256,7 @@ nlohmann::json to_json(const Problem& p, const Verification& v) {
           {"inertia", {{"positive", in.positive}, {"negative", in.negative}, {"zero", in.zero}}},
           {"min_pivot_ratio", v.info.min_pivot_ratio},
           {"cholmod_status", v.cholmod_status},
+          {"cholmod_row", v.cholmod_row >= 0 ? nlohmann::json(v.cholmod_row) : nlohmann::json(nullptr)},
           {"condition_estimate", number_or_null(v.condition_estimate)},
           {"tolerance", {{"factor", number_or_null(v.factor_tolerance)}, {"backward", v.tolerance.backward}}},
           {"verifiable", v.verifiable},

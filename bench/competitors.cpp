@@ -89,8 +89,18 @@ class CholmodSolver final : public DirectSolver {
     // A pivot CHOLMOD refuses is a warning (CHOLMOD_NOT_POSDEF > 0); below CHOLMOD_OK is out
     // of memory or misuse, not a numerical failure.
     check(c->status >= CHOLMOD_OK, "cholmod_factorize");
+    status_ = c->status;
     factored_ = c->status == CHOLMOD_OK && static_cast<int>(held_.l->minor) == n_;
     return factored_;
+  }
+
+  // L->minor is the column of C = A(q,q) where the factorization stopped: row q[minor] of A.
+  std::string failure() const override {
+    if (factored_) return "";
+    const int k = static_cast<int>(held_.l->minor);
+    return std::string(supernodal_ ? "not positive definite" : "zero pivot") + " (CHOLMOD status " +
+           std::to_string(status_) + ") at row " + std::to_string(k < n_ ? q_[k] : -1) +
+           ", column " + std::to_string(k) + " of its order";
   }
 
   void solve(std::span<double> b) override {
@@ -147,6 +157,7 @@ class CholmodSolver final : public DirectSolver {
   std::vector<int> q_;      // the order CHOLMOD factors in: C = A(q,q) (size n)
   std::vector<double> bq_;  // permuted right-hand side, viewed by b_ (size n)
   cholmod_dense b_{};
+  int status_ = CHOLMOD_OK;  // Common->status after the last cholmod_factorize
   bool factored_ = false;
 };
 
@@ -181,6 +192,8 @@ class EigenSimplicialSolver final : public DirectSolver {
     return factored_;
   }
 
+  std::string failure() const override { return factored_ ? "" : "Eigen::NumericalIssue (a zero pivot)"; }
+
   void solve(std::span<double> b) override {
     const int n = static_cast<int>(perm_.size());
     assert(factored_ && static_cast<int>(b.size()) == n);
@@ -212,6 +225,8 @@ class EigenDenseSolver final : public DirectSolver {
     factored_ = ldlt_.info() == Eigen::Success;
     return factored_;
   }
+
+  std::string failure() const override { return factored_ ? "" : "Eigen::NumericalIssue (a zero pivot)"; }
 
   void solve(std::span<double> b) override {
     assert(factored_ && b.size() == static_cast<size_t>(a_.rows()));

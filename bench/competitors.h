@@ -31,6 +31,9 @@ class DirectSolver {
   // NumericalIssue): a zero pivot, or for the LL^T a pivot that is not positive. May be called
   // again (a benchmark factors many times); each call starts afresh.
   virtual bool factor() = 0;
+  // Why the last factor() returned false, in one line naming the pivot where the solver says
+  // (empty after a success): what `ldlpgs bench` prints for a solver that failed.
+  virtual std::string failure() const = 0;
   // b (size n) is overwritten with x, A x = b. Only after a factor() that returned true. The
   // CHOLMOD solvers allocate nothing from their second solve on.
   virtual void solve(std::span<double> b) = 0;

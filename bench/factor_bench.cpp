@@ -168,7 +168,7 @@ void bench(benchmark::State& state, Problem* p, const std::string& solver, Phase
     return;
   }
   if (!s->ok) {
-    state.SkipWithError("the factorization failed (zero or, for LL^T, non-positive pivot)");
+    state.SkipWithError(("the factorization failed: " + s->solver->failure()).c_str());
     return;
   }
   std::vector<double> x(p->a.n);

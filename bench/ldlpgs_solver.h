@@ -2,6 +2,7 @@
 // ldlpgs's block LDL^T behind the competitors' interface (competitors.h), so that benchmarks and
 // `ldlpgs bench` time every solver with the same loop. The symbolic phase runs in the
 // constructor, outside any timed loop, as the competitors' analyses do.
+#include <string>
 #include <string_view>
 
 #include "bench/competitors.h"
@@ -19,6 +20,7 @@ class LdlpgsSolver final : public DirectSolver {
 
   std::string_view name() const override { return "ldlpgs"; }
   bool factor() override { return numeric_.factorize(a_).usable(); }
+  std::string failure() const override { return numeric_.info().usable() ? "" : numeric_.info().message(); }
   void solve(std::span<double> b) override { numeric_.solve(b); }
   const Symbolic& symbolic() const { return symbolic_; }
   const FactorInfo& info() const { return numeric_.info(); }

@@ -37,6 +37,7 @@ struct Verification {
   double factor_tolerance = 0;    // the tolerance applied to L, D and x (VerifyTolerance)
   FactorInfo info;         // our factorization's status
   int cholmod_status = 0;  // CHOLMOD's Common->status
+  int cholmod_row = -1;    // where CHOLMOD stopped (L->minor < n): that column's original row, else -1
   VerifyTolerance tolerance;
   // The tolerance for L, D and x could be computed and verifies at least one digit: a finite
   // condition estimate and factor_tolerance < 1. Without it nothing is verified, and ok is false

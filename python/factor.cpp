@@ -344,6 +344,7 @@ void bind_factor(py::module_& m) {
         d["inertia"] = inertia;
         d["min_pivot_ratio"] = v.info.min_pivot_ratio;
         d["cholmod_status"] = v.cholmod_status;
+        d["cholmod_row"] = v.cholmod_row >= 0 ? py::object(py::int_(v.cholmod_row)) : py::object(py::none());
         d["condition_estimate"] = number(v.condition_estimate);
         py::dict t;
         t["factor"] = number(v.factor_tolerance);

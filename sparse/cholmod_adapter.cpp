@@ -100,7 +100,8 @@ class GivenOrderLdl {
                .final_ll = false,
                .final_pack = true,
                .final_monotonic = true,
-               .final_resymbol = false});
+               .final_resymbol = false,
+               .print = 0});
   }
   ~GivenOrderLdl() { write(*c_, saved_); }
   GivenOrderLdl(const GivenOrderLdl&) = delete;
@@ -110,10 +111,11 @@ class GivenOrderLdl {
   struct Settings {
     int nmethods, ordering, postorder, supernodal;
     int final_asis, final_super, final_ll, final_pack, final_monotonic, final_resymbol;
+    int print;  // 0: a zero pivot is the returned status, not also CHOLMOD's warning on stderr
   };
   static Settings read(const cholmod_common& c) {
     return {c.nmethods,  c.method[0].ordering, c.postorder, c.supernodal,     c.final_asis,
-            c.final_super, c.final_ll,         c.final_pack, c.final_monotonic, c.final_resymbol};
+            c.final_super, c.final_ll,         c.final_pack, c.final_monotonic, c.final_resymbol, c.print};
   }
   static void write(cholmod_common& c, const Settings& s) {
     c.nmethods = s.nmethods;
@@ -126,6 +128,7 @@ class GivenOrderLdl {
     c.final_pack = s.final_pack;
     c.final_monotonic = s.final_monotonic;
     c.final_resymbol = s.final_resymbol;
+    c.print = s.print;
   }
 
   cholmod_common* c_;

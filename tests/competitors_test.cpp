@@ -2,8 +2,8 @@
 // backward error near machine precision and agrees with a dense LU solve (Eigen's
 // PartialPivLU, an algorithm none of them uses) within what the condition number allows;
 // refactoring gives the same answer; each reports the pivot failures its algorithm has (worked
-// by hand); the CHOLMOD ones allocate nothing from the second solve on; unknown names are
-// refused; the BLAS CHOLMOD calls is named by a file that exists.
+// by hand), and says where; the CHOLMOD ones allocate nothing from the second solve on; unknown
+// names are refused; the BLAS CHOLMOD calls is named by a file that exists.
 #include "bench/competitors.h"
 
 #include <gtest/gtest.h>
@@ -159,6 +159,12 @@ TEST(DirectSolvers, PivotFailuresAreTheAlgorithms) {
       SCOPED_TRACE(pc.name + ", " + std::string(name));
       const auto solver = make_direct_solver(name, pc.a, perm);
       EXPECT_EQ(solver->factor(), expected[c][s]);
+      // failure() says why, and CHOLMOD where: every failing case stops at row 1 (the -3 of
+      // the indefinite one, the 0 of the other).
+      EXPECT_EQ(solver->failure().empty(), expected[c][s]) << solver->failure();
+      if (!expected[c][s] && name.starts_with("cholmod")) {
+        EXPECT_NE(solver->failure().find("at row 1,"), std::string::npos) << solver->failure();
+      }
       if (!expected[c][s]) continue;
       Eigen::VectorXd x = b;
       solver->solve({x.data(), static_cast<size_t>(x.size())});

@@ -186,6 +186,8 @@ TEST(LdlpgsBench, JsonFields) {
                           "cholmod_supernodal_factor_us", "eigen_simplicial_factor_us"})
     EXPECT_GT(j[key].get<double>(), 0) << key;
   EXPECT_TRUE(j["eigen_dense_factor_us"].is_null());  // n > --dense-max
+  EXPECT_TRUE(j["failure"].is_null());
+  EXPECT_TRUE(j["cholmod_failure"].is_null());
   EXPECT_GT(j["gflops"].get<double>(), 0);
   EXPECT_EQ(j["ordering"], "best");  // the default, and the one it chose
   EXPECT_TRUE(j["chosen"].is_string());
@@ -193,6 +195,43 @@ TEST(LdlpgsBench, JsonFields) {
     if (item.key().ends_with("backward_error") && !item.value().is_null()) {
       EXPECT_LE(item.value().get<double>(), 1e-14) << item.key();
     }
+}
+
+// A singular matrix is a numerical failure, not bad input (exit 1, not 2): diag(2, 0, 3) stops
+// every sparse solver at row 1 whatever the order, and each says so in its own words.
+const char kSingular[] = "%%MatrixMarket matrix coordinate real symmetric\n3 3 3\n1 1 2\n2 2 0\n3 3 3\n";
+
+TEST(LdlpgsBench, SingularMatrixNamesEachSolversFailure) {
+  const std::string f = temp_file("singular.mtx", kSingular);
+  const Result r = run("bench " + f + " --json");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("zero pivot at block 1 (row 1)"), std::string::npos) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["factor_us"].is_null());
+  EXPECT_NE(j["failure"].get<std::string>().find("zero pivot at block 1 (row 1)"), std::string::npos) << j["failure"];
+  for (const char* key : {"cholmod_failure", "cholmod_supernodal_failure"})
+    EXPECT_NE(j[key].get<std::string>().find("at row 1,"), std::string::npos) << key << " " << j[key];
+  EXPECT_TRUE(j["eigen_simplicial_failure"].is_string());
+  const Result text = run("bench " + f);
+  EXPECT_EQ(text.code, 1);
+  EXPECT_NE(text.out.find("ldlpgs               failed to factor: zero pivot at block 1 (row 1)"), std::string::npos)
+      << text.out;
+}
+
+TEST(LdlpgsVerify, SingularMatrixIsNotVerified) {
+  const std::string f = temp_file("singular.mtx", kSingular);
+  const Result r = run("verify " + f);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.err, "");  // CHOLMOD's own warning is its status, not a line on stderr
+  EXPECT_NE(r.out.find("NOT VERIFIED: ours failed (above); CHOLMOD stopped at a zero pivot in row 1"), std::string::npos)
+      << r.out;
+  const Result json = run("verify " + f + " --json");
+  EXPECT_EQ(json.code, 1);
+  const nlohmann::json j = nlohmann::json::parse(json.out);
+  EXPECT_EQ(j["status"], "zero pivot");
+  EXPECT_EQ(j["cholmod_row"], 1);
+  EXPECT_FALSE(j["ok"].get<bool>());
 }
 
 // CHOLMOD supernodal's parallel regions ask for 4 threads whatever OMP_NUM_THREADS says: bench
@@ -861,6 +900,7 @@ std::vector<Field> read_vocabulary() {
 
 bool has_type(const nlohmann::json& v, const std::string& type) {
   if (type == "integer") return v.is_number_integer();
+  if (type == "integer?") return v.is_number_integer() || v.is_null();
   if (type == "number") return v.is_number();
   if (type == "number?") return v.is_number() || v.is_null();
   if (type == "string") return v.is_string();
