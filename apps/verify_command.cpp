@@ -1,6 +1,7 @@
 // ldlpgs verify MATRIX: our block LDL^T beside CHOLMOD's simplicial LDL^T under the same
-// permutation (factor/verify.h); exit code 1 when they disagree beyond the printed tolerance, or
-// when no tolerance could be computed (cond_1 inf) or it checks no digit (>= 1).
+// permutation (factor/verify.h); exit code 1 when they disagree beyond the printed tolerance,
+// when no tolerance could be computed (cond_1 inf) or it checks no digit (>= 1), or when either
+// side refuses the matrix.
 #include <cmath>
 #include <cstdio>
 #include <string>

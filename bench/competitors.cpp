@@ -94,13 +94,15 @@ class CholmodSolver final : public DirectSolver {
     return factored_;
   }
 
-  // L->minor is the column of C = A(q,q) where the factorization stopped: row q[minor] of A.
+  // L->minor is the column of C = A(q,q) where the factorization stopped: row q[minor] of A (q
+  // postordered for the supernodal one). A failure without a minor column is its status alone.
   std::string failure() const override {
     if (factored_) return "";
     const int k = static_cast<int>(held_.l->minor);
-    return std::string(supernodal_ ? "not positive definite" : "zero pivot") + " (CHOLMOD status " +
-           std::to_string(status_) + ") at row " + std::to_string(k < n_ ? q_[k] : -1) +
-           ", column " + std::to_string(k) + " of its order";
+    const std::string status = "CHOLMOD status " + std::to_string(status_);
+    if (k >= n_) return status;
+    return std::string(supernodal_ ? "not positive definite" : "zero pivot") + " (" + status + ") at row " +
+           std::to_string(q_[k]) + ", column " + std::to_string(k) + " of the order CHOLMOD factors in";
   }
 
   void solve(std::span<double> b) override {

@@ -36,7 +36,9 @@ enum Status : uint8_t { kVariable, kElement, kMerged, kAbsorbed };
 template <class Key>
 class VariableHeap {
  public:
-  explicit VariableHeap(const std::vector<Key>& key) : key_(key), place_(key.size(), -1) {}
+  explicit VariableHeap(const std::vector<Key>& key) : key_(key), place_(key.size(), -1) {
+    heap_.reserve(key.size());
+  }
   bool empty() const { return heap_.empty(); }
   // After key[i] changed, or to add i.
   void update(int i) {

@@ -2,8 +2,8 @@
 // backward error near machine precision and agrees with a dense LU solve (Eigen's
 // PartialPivLU, an algorithm none of them uses) within what the condition number allows;
 // refactoring gives the same answer; each reports the pivot failures its algorithm has (worked
-// by hand), and says where; the CHOLMOD ones allocate nothing from the second solve on; unknown
-// names are refused; the BLAS CHOLMOD calls is named by a file that exists.
+// by hand), and CHOLMOD says where; the CHOLMOD ones allocate nothing from the second solve on;
+// unknown names are refused; the BLAS CHOLMOD calls is named by a file that exists.
 #include "bench/competitors.h"
 
 #include <gtest/gtest.h>
@@ -171,6 +171,20 @@ TEST(DirectSolvers, PivotFailuresAreTheAlgorithms) {
       for (int i = 0; i < n; ++i) EXPECT_NEAR(x[i], pc.x[i], 1e-15 * 4);
     }
   }
+}
+
+// CHOLMOD's failure() names the original row: diag(2, 0, 3) eliminated in the order 2, 0, 1 stops
+// at its third column, row 1 (a mix-up of the order, its inverse or the column would say 2 or 0).
+TEST(DirectSolvers, FailureNamesTheOriginalRow) {
+  const SymmetricCsc a = csc_from_triplets(3, std::vector<Triplet>{{0, 0, 2}, {1, 1, 0}, {2, 2, 3}});
+  const std::vector<int> perm = {2, 0, 1};
+  const auto simplicial = make_direct_solver("cholmod", a, perm);
+  ASSERT_FALSE(simplicial->factor());
+  EXPECT_NE(simplicial->failure().find("zero pivot (CHOLMOD status 1) at row 1, column 2 "), std::string::npos)
+      << simplicial->failure();
+  const auto supernodal = make_direct_solver("cholmod-supernodal", a, perm);  // (its order postordered)
+  ASSERT_FALSE(supernodal->factor());
+  EXPECT_NE(supernodal->failure().find("at row 1,"), std::string::npos) << supernodal->failure();
 }
 
 // Counts CHOLMOD's allocations: every CHOLMOD allocation goes through SuiteSparse_config's

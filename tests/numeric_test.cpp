@@ -631,6 +631,25 @@ TEST(Verify, ConditionEstimateIsScaleInvariant) {
 // Class 6: verify reported agreement on a tolerance it could not compute (cond estimate inf, so
 // tolerance inf, "agree" with x 5.27 off); a tolerance of 1 or more (cond_1 >= 4.5e15) verifies
 // no digit either. Both are "cannot verify", not agreement.
+// A matrix CHOLMOD refuses: cholmod_row is the original row of the column where it stopped.
+// diag(2, 0, 3) in the order 2, 0, 1 stops at column 2, row 1 (the column, or the inverse order,
+// would say 2 or 0); ours refuses the same row.
+TEST(Verify, CholmodRowIsTheOriginalRow) {
+  const SymmetricCsc a = csc_from_triplets(3, std::vector<Triplet>{{0, 0, 2}, {1, 1, 0}, {2, 2, 3}});
+  const BlockPattern blocks = BlockPattern::unit(a);
+  Ordering o;
+  o.name = o.chosen = "given";
+  o.pivots = o.perm = {2, 0, 1};
+  const Verification v = verify_against_cholmod(a, blocks, o);
+  EXPECT_EQ(v.cholmod_row, 1);
+  EXPECT_EQ(v.info.status, FactorStatus::zero_pivot);
+  EXPECT_EQ(v.info.row, 1);
+  EXPECT_FALSE(v.ok);
+  o.pivots = o.perm = {0, 2, 1};
+  const SymmetricCsc spd = csc_from_triplets(3, std::vector<Triplet>{{0, 0, 2}, {1, 1, 1}, {2, 2, 3}});
+  EXPECT_EQ(verify_against_cholmod(spd, blocks, o).cholmod_row, -1);
+}
+
 TEST(Verify, NoAgreementOnAToleranceThatVerifiesNothing) {
   // cond = 2^1000 (finite, > 1 / eps) and cond = 2^1500 (estimate overflows).
   for (int e : {1000, 1500}) {
