@@ -32,12 +32,11 @@ void print(const Problem& p, const Verification& v) {
   // Either side refusing the matrix leaves nothing to compare: said as such, not as a
   // disagreement. CHOLMOD stops only at an exactly zero pivot, ours at its threshold
   // (FactorOptions::zero_pivot), so a nearly singular matrix may stop one and not the other.
-  const bool cholmod_factored = v.cholmod_status == 0 && v.cholmod_row < 0;
-  if (!v.info.usable() || !cholmod_factored) {
+  if (!v.info.usable() || !v.cholmod_factored()) {
     const std::string cholmod = v.cholmod_row >= 0 ? "stopped at a zero pivot in row " + std::to_string(v.cholmod_row)
                                                    : "status " + std::to_string(v.cholmod_status);
     std::printf("NOT VERIFIED: %s; CHOLMOD %s\n", v.info.usable() ? "ours factored" : "ours failed (above)",
-                cholmod_factored ? "factored" : cholmod.c_str());
+                v.cholmod_factored() ? "factored" : cholmod.c_str());
   } else if (!v.verifiable) {
     std::printf("CANNOT VERIFY: the tolerance for L, D and x is %.1e (condition estimate %.2e), so no digit is "
                 "checked\n", t, v.condition_estimate);

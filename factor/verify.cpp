@@ -100,7 +100,7 @@ Verification verify_against_cholmod(const SymmetricCsc& a, const BlockPattern& b
   const CholmodLdl ref = cholmod_ldl(a, ordering.perm, b, cm);
   v.cholmod_status = ref.status;
   if (ref.minor < a.n) v.cholmod_row = ordering.perm[ref.minor];
-  const bool cholmod_usable = ref.status == CHOLMOD_OK && ref.minor == a.n;
+  const bool cholmod_usable = v.cholmod_factored();
 
   if (cholmod_usable) v.backward_error_cholmod = backward_error(a, ref.x, b);
   else v.backward_error_cholmod = nan;

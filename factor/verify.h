@@ -38,6 +38,8 @@ struct Verification {
   FactorInfo info;         // our factorization's status
   int cholmod_status = 0;  // CHOLMOD's Common->status
   int cholmod_row = -1;    // where CHOLMOD stopped (L->minor < n): that column's original row, else -1
+  // CHOLMOD factored the matrix: status CHOLMOD_OK (0) and no column where it stopped.
+  bool cholmod_factored() const { return cholmod_status == 0 && cholmod_row < 0; }
   VerifyTolerance tolerance;
   // The tolerance for L, D and x could be computed and verifies at least one digit: a finite
   // condition estimate and factor_tolerance < 1. Without it nothing is verified, and ok is false

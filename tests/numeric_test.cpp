@@ -628,9 +628,6 @@ TEST(Verify, ConditionEstimateIsScaleInvariant) {
   }
 }
 
-// Class 6: verify reported agreement on a tolerance it could not compute (cond estimate inf, so
-// tolerance inf, "agree" with x 5.27 off); a tolerance of 1 or more (cond_1 >= 4.5e15) verifies
-// no digit either. Both are "cannot verify", not agreement.
 // A matrix CHOLMOD refuses: cholmod_row is the original row of the column where it stopped.
 // diag(2, 0, 3) in the order 2, 0, 1 stops at column 2, row 1 (the column, or the inverse order,
 // would say 2 or 0); ours refuses the same row.
@@ -650,6 +647,9 @@ TEST(Verify, CholmodRowIsTheOriginalRow) {
   EXPECT_EQ(verify_against_cholmod(spd, blocks, o).cholmod_row, -1);
 }
 
+// Class 6: verify reported agreement on a tolerance it could not compute (cond estimate inf, so
+// tolerance inf, "agree" with x 5.27 off); a tolerance of 1 or more (cond_1 >= 4.5e15) verifies
+// no digit either. Both are "cannot verify", not agreement.
 TEST(Verify, NoAgreementOnAToleranceThatVerifiesNothing) {
   // cond = 2^1000 (finite, > 1 / eps) and cond = 2^1500 (estimate overflows).
   for (int e : {1000, 1500}) {
