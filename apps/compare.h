@@ -61,8 +61,13 @@ void print_certificate(std::FILE* out, const std::vector<Row>& rows, const Block
 // One verification (verify --json, report/data/verification.*).
 nlohmann::json to_json(const Problem& p, const Verification& v);
 
+// What a verification concluded, as the tables print it: "yes" (every difference within the
+// tolerance), "no" (a difference beyond it), "not verified" (ours or CHOLMOD refused the matrix:
+// nothing to compare) or "cannot verify" (the tolerance checks no digit; factor/verify.h).
+const char* verdict(const Verification& v);
+
 // The block LDL^T against CHOLMOD (factor/verify.h), one row per problem, as text or Markdown
-// (verify_command.cpp).
+// (verify_command.cpp); the last column is verdict().
 void print_verification_table(std::FILE* out, const std::vector<std::pair<std::string, Verification>>& rows,
                               bool markdown);
 

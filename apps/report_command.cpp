@@ -9,8 +9,9 @@
 // It writes a directory (report/ by default) holding index.md (opening with a key finding per
 // study), index.html, the figures, and data/: each big table as JSON and CSV records (one flat
 // object or line per row, for pandas); the orderings tables go to standard output as well, and a progress
-// line per stage and problem to standard error. Exit code 1 if a factorization disagrees with
-// CHOLMOD's or a stage fails, 2 for bad input.
+// line per stage and problem to standard error. Exit code 1 if a factorization is not verified
+// against CHOLMOD's (it disagrees, either refused the matrix, or no digit can be checked) or a
+// stage fails, 2 for bad input.
 #include <algorithm>
 #include <cmath>
 #include <chrono>
@@ -164,16 +165,20 @@ std::string key_findings(const std::string& out_dir, const std::vector<std::pair
     std::snprintf(line, sizeof line, "- **Orderings**: %zu problems compared; MECA and AMD were not both run (%s).\n",
                   results.size(), paper(out_dir, "orderings.md").c_str());
   md += line;
-  int agree = 0;
+  int agree = 0, refused = 0;
   double worst = 0;
   for (const auto& [name, v] : checks) {
     agree += v.ok;
+    refused += std::string(verdict(v)) == "not verified";
+    // (a refused matrix's differences are NaN, which std::max passes over)
     worst = std::max({worst, v.L_rel_diff, v.D_rel_diff, v.x_rel_diff});
   }
+  const std::string refusals =
+      refused ? ", and " + std::to_string(refused) + " refused by a solver, so not verified" : "";
   // the tolerance grows with the condition estimate, so the largest difference alone says little
   std::snprintf(line, sizeof line, "- **The block LDL^T against CHOLMOD**: %d of %zu problems agree within "
-                "max(1e-10, eps cond_1); the largest relative difference of L, D or x is %.1e (%s).\n",
-                agree, checks.size(), worst, paper(out_dir, "factor.md").c_str());
+                "max(1e-10, eps cond_1); the largest relative difference of L, D or x is %.1e%s (%s).\n",
+                agree, checks.size(), worst, refusals.c_str(), paper(out_dir, "factor.md").c_str());
   md += line;
   if (talk_rows > 0)
     std::snprintf(line, sizeof line, "- **The talk's figures**: %d mechanisms measured beside the talk's numbers "
@@ -357,13 +362,24 @@ Command add_report_command(CLI::App& app) {
     write_table(data, "verification", verification_rows);
     std::printf(o->markdown ? "\n### The block LDL^T against CHOLMOD\n\n" : "\nThe block LDL^T against CHOLMOD's simplicial LDL^T, same permutation:\n");
     print_verification_table(stdout, checks, o->markdown);
-    const bool all_agree = std::all_of(checks.begin(), checks.end(), [](const auto& c) { return c.second.ok; });
-    if (!all_agree) std::printf("DISAGREEMENT: see the rows marked no (tolerances in factor/verify.h)\n");
+    // A row that is not yes is one of three things (verdict()): counted apart, so that a matrix
+    // a solver refused is not reported as a disagreement.
+    std::string not_all;
+    for (auto [kind, said] : {std::pair{"no", "disagree"}, {"not verified", "not verified (a solver refused the matrix)"},
+                              {"cannot verify", "cannot verify (the tolerance checks no digit)"}}) {
+      const auto count = std::count_if(checks.begin(), checks.end(),
+                                       [&](const auto& c) { return std::string(verdict(c.second)) == kind; });
+      if (count > 0) not_all += (not_all.empty() ? "" : ", ") + std::to_string(count) + " " + said;
+    }
+    const bool all_agree = not_all.empty();
+    if (!all_agree)
+      std::printf("NOT ALL AGREE: %s; tolerances in factor/verify.h\n", not_all.c_str());
     ok = ok && all_agree;
+    const std::string summary = all_agree ? "All agree." : "**Not all agree: " + not_all + ".**";
     std::fprintf(md, "\n## 2. The block LDL^T against CHOLMOD\n\nOrdering %s; L, D and x against CHOLMOD's simplicial "
                  "LDL^T on the same permutation, tolerance max(1e-10, eps cond_1) (factor/verify.h); one row in "
                  "detail: `build/bin/ldlpgs verify PROBLEM`. %s\n\n",
-                 o->verify.c_str(), all_agree ? "All agree." : "**Some disagree: the rows marked no.**");
+                 o->verify.c_str(), summary.c_str());
     print_verification_table(md, checks, true);
 
     // 3. The talk's table (papers/talk_figures.py runs spy, export, bench and step of this program).

@@ -2,6 +2,8 @@
 // permutation (factor/verify.h); exit code 1 when they disagree beyond the printed tolerance,
 // when no tolerance could be computed (cond_1 inf) or it checks no digit (>= 1), or when either
 // side refuses the matrix.
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -32,12 +34,13 @@ void print(const Problem& p, const Verification& v) {
   // Either side refusing the matrix leaves nothing to compare: said as such, not as a
   // disagreement. CHOLMOD stops only at an exactly zero pivot, ours at its threshold
   // (FactorOptions::zero_pivot), so a nearly singular matrix may stop one and not the other.
-  if (!v.info.usable() || !v.cholmod_factored()) {
+  const std::string said = verdict(v);
+  if (said == "not verified") {
     const std::string cholmod = v.cholmod_row >= 0 ? "stopped at a zero pivot in row " + std::to_string(v.cholmod_row)
                                                    : "status " + std::to_string(v.cholmod_status);
     std::printf("NOT VERIFIED: %s; CHOLMOD %s\n", v.info.usable() ? "ours factored" : "ours failed (above)",
                 v.cholmod_factored() ? "factored" : cholmod.c_str());
-  } else if (!v.verifiable) {
+  } else if (said == "cannot verify") {
     std::printf("CANNOT VERIFY: the tolerance for L, D and x is %.1e (condition estimate %.2e), so no digit is "
                 "checked\n", t, v.condition_estimate);
   } else {
@@ -46,6 +49,12 @@ void print(const Problem& p, const Verification& v) {
 }
 
 }  // namespace
+
+const char* verdict(const Verification& v) {
+  if (!v.info.usable() || !v.cholmod_factored()) return "not verified";
+  if (!v.verifiable) return "cannot verify";
+  return v.ok ? "yes" : "no";
+}
 
 void print_verification_table(std::FILE* out, const std::vector<std::pair<std::string, Verification>>& rows,
                               bool markdown) {
@@ -62,11 +71,27 @@ void print_verification_table(std::FILE* out, const std::vector<std::pair<std::s
                  header[4], header[5], header[6], header[7], header[8], header[9]);
   }
   for (const auto& [name, v] : rows) {
-    const char* agree = v.ok ? "yes" : (markdown ? "**no**" : "NO");
-    const char* format = markdown ? "| %s | %s | %.1e | %.1e | %.1e | %.1e | %.0e | %.1e | %.1e | %s |\n"
-                                  : "%-16s %-8s %9.1e %9.1e %9.1e %9.1e %9.0e %12.1e %14.1e %6s\n";
-    std::fprintf(out, format, name.c_str(), v.ordering.c_str(), v.condition_estimate, v.L_rel_diff, v.D_rel_diff,
-                 v.x_rel_diff, v.factor_tolerance, v.backward_error, v.backward_error_cholmod, agree);
+    // anything but yes stands out: bold in Markdown, capitals in text
+    std::string agree = verdict(v);
+    if (agree != "yes") {
+      if (markdown) agree = "**" + agree + "**";
+      else std::transform(agree.begin(), agree.end(), agree.begin(), [](unsigned char c) { return std::toupper(c); });
+    }
+    // a refused matrix has nothing measured: "-", not the NaNs left in its fields
+    const bool measured = std::string(verdict(v)) != "not verified";
+    auto number = [&](double x, const char* format) {
+      char text[32] = "-";
+      if (measured) std::snprintf(text, sizeof text, format, x);
+      return std::string(text);
+    };
+    const std::string cells[] = {number(v.condition_estimate, "%.1e"), number(v.L_rel_diff, "%.1e"),
+                                 number(v.D_rel_diff, "%.1e"),         number(v.x_rel_diff, "%.1e"),
+                                 number(v.factor_tolerance, "%.0e"),   number(v.backward_error, "%.1e"),
+                                 number(v.backward_error_cholmod, "%.1e")};
+    const char* format = markdown ? "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n"
+                                  : "%-16s %-8s %9s %9s %9s %9s %9s %12s %14s %6s\n";
+    std::fprintf(out, format, name.c_str(), v.ordering.c_str(), cells[0].c_str(), cells[1].c_str(), cells[2].c_str(),
+                 cells[3].c_str(), cells[4].c_str(), cells[5].c_str(), cells[6].c_str(), agree.c_str());
   }
 }
 

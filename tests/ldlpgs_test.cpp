@@ -775,6 +775,29 @@ TEST(LdlpgsReport, WritesTheReportDirectory) {
   }
 }
 
+// A matrix a solver refuses is not verified, and said so: not a disagreement, no NaN in the table.
+TEST(LdlpgsReport, ARefusedMatrixIsNotVerified) {
+  const std::string dir = temp_path("report-refused"), matrices = temp_path("matrices-refused");
+  std::filesystem::create_directories(matrices);
+  std::filesystem::copy_file(temp_file("singular.mtx", kSingular), matrices + "/singular.mtx",
+                             std::filesystem::copy_options::overwrite_existing);
+  const Result r = run("report --sizes 10 --cases four-bar --ordering meca --matrices " + matrices + " --out-dir " +
+                       dir + " --no-figures");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.out.find("NOT ALL AGREE: 1 not verified (a solver refused the matrix)"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("disagree"), std::string::npos) << r.out;
+  const size_t row = r.out.find("singular.mtx     best");
+  ASSERT_NE(row, std::string::npos) << r.out;
+  const std::string line = r.out.substr(row, r.out.find('\n', row) - row);
+  EXPECT_NE(line.find("NOT VERIFIED"), std::string::npos) << line;
+  EXPECT_EQ(line.find("nan"), std::string::npos) << line;
+  std::ifstream in(dir + "/index.md");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  EXPECT_NE(ss.str().find("| singular.mtx | best | - | - | - | - | - | - | - | **not verified** |"), std::string::npos);
+  EXPECT_NE(ss.str().find("1 refused by a solver, so not verified"), std::string::npos);
+}
+
 TEST(LdlpgsBadInput, SweepUnknownScene) { expect_input_error("sweep --cases no-such-scene", {"no-such-scene"}); }
 
 TEST(LdlpgsBadInput, SweepZeroIterations) { expect_input_error("sweep --cases chain-10 --iterations 0", {"--iterations"}); }
