@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -72,6 +73,13 @@ Timing time_solver(DirectSolver& s, const SymmetricCsc& a) {
   x = b;
   s.solve(x);
   t.backward_error = backward_error(a, x, b);
+  // A solver may accept a pivot whose inverse overflows: Eigen's dense LDLT on diag(1e-310)
+  // reported success and solved to inf - inf = NaN, which bench printed as -nan and exit 0.
+  if (!std::isfinite(t.backward_error)) {
+    t.ok = false;
+    t.failure = "the solution is not finite (a pivot's inverse overflowed)";
+    return t;
+  }
   t.factor_us = median_us([&] { s.factor(); });
   t.solve_us = median_us([&] {
     std::copy(b.begin(), b.end(), x.begin());
@@ -95,38 +103,41 @@ Command add_bench_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("bench", "Time the block LDL^T against CHOLMOD and Eigen on one matrix");
   add_problem_options(cmd, &o->problem);
   add_ordering_option(cmd, &o->ordering, "Ordering name (all solvers use its scalar permutation)");
-  cmd->add_option("--dense-max", o->dense_max, "Largest dimension Eigen's dense LDLT is timed on")->capture_default_str();
+  cmd->add_option("--dense-max", o->dense_max, "Largest dimension Eigen's dense LDLT is timed on")
+      ->capture_default_str()
+      ->check(integer_in(0, std::numeric_limits<int>::max()));
   cmd->add_option("--kernels", o->kernels, "Our kernels: auto (the best this CPU runs), sse2 or avx2 (factor/passes.h)")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "sse2", "avx2"}));
   cmd->add_option("--supernode-min-rows", o->symbolic.supernode_min_rows,
                   "Rows from which a run of nested pivots is one supernode (0: none)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, std::numeric_limits<int>::max()));
   cmd->add_option("--supernode-min-front", o->symbolic.supernode_min_front,
                   "Rows of L's column (the supernode's and those below) from which it is one supernode")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, std::numeric_limits<int>::max()));
   cmd->add_option("--small-supernode-max-rows", o->symbolic.small_supernode_max_rows,
                   "Rows of the small supernodes a run of nested pivots not made one supernode is cut into (1: none)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 1 << 20));
+      ->check(integer_in(1, 1 << 20));
   cmd->add_option("--relax-max-zeros", o->symbolic.relax_max_zeros,
                   "Explicit zeros (a fraction of the entries below its diagonal) a small supernode may store to take "
                   "pivots that do not nest (0: none)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(finite_in(0, 1));
   cmd->add_option("--blas-min-rows", o->symbolic.blas_min_rows, "Rows from which a supernode is eliminated with BLAS (0: never)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, std::numeric_limits<int>::max()));
   cmd->add_option("--rsi-max-per-entry", o->symbolic.rsi_max_per_entry,
                   "RSI indices per entry of L above which a supernode scatters through a relative map (0: always, "
                   "negative: never)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(finite_in(-HUGE_VAL));
   cmd->add_option("--rsi-min-entries", o->symbolic.rsi_min_entries,
                   "RSI indices the budget of --rsi-max-per-entry always allows (unless that is 0)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, std::numeric_limits<int64_t>::max()));
   add_json_flag(cmd, &o->json);
   return [o] {
     try {

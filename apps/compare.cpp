@@ -58,6 +58,14 @@ Problem load_unsplit(const std::string& spec, const std::string& blocks_spec, in
   const size_t colon = spec.rfind(':');
   if (colon == std::string::npos || std::filesystem::exists(spec)) return load_matrix(spec, blocks_spec, max_block);
   const std::string family = spec.substr(0, colon), count = spec.substr(colon + 1);
+  // A generated mechanism has its blocks already, one per constraint: a partition asked for it
+  // was ignored without a word.
+  if (blocks_spec != ProblemArgs{}.blocks)
+    throw InputError(spec + ": --blocks " + blocks_spec + " is for a Matrix Market file (a generated mechanism has "
+                     "one block per constraint)");
+  if (max_block != ProblemArgs{}.max_block)
+    throw InputError(spec + ": --max-block is for --blocks auto on a Matrix Market file (a generated mechanism has "
+                     "one block per constraint)");
   int m = 0;
   try {
     size_t used = 0;

@@ -1,7 +1,9 @@
 // The options and JSON conventions the subcommands share (apps/options.h).
 #include "apps/options.h"
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <iostream>
 
@@ -36,6 +38,38 @@ void add_renamed(CLI::App* cmd, const std::string& old_name, const std::string& 
       ->group("");
 }
 
+namespace {
+std::string bound(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", x);
+  return text;
+}
+}  // namespace
+
+CLI::Validator finite_in(double lo, double hi, bool open) {
+  const std::string range = lo == -HUGE_VAL && hi == HUGE_VAL ? ""
+                            : hi == HUGE_VAL ? (open ? " > " : " >= ") + bound(lo)
+                                             : " in " + std::string(open ? "(" : "[") + bound(lo) + ", " + bound(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, open, range](std::string& text) -> std::string {
+        double x = 0;
+        const bool number = CLI::detail::lexical_cast(text, x) && std::isfinite(x);
+        if (number && (open ? x > lo : x >= lo) && x <= hi) return {};
+        return "'" + printable(text, 40) + "': must be a finite number" + range;
+      },
+      "");
+}
+
+CLI::Validator integer_in(long long lo, long long hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        long long x = 0;
+        if (CLI::detail::lexical_cast(text, x) && x >= lo && x <= hi) return {};
+        return "'" + printable(text, 40) + "': must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+      },
+      "");
+}
+
 nlohmann::json json_header(const std::string& command, nlohmann::json fields) {
   fields["ldlpgs_version"] = kVersion;
   fields["command"] = command;
@@ -45,6 +79,15 @@ nlohmann::json json_header(const std::string& command, nlohmann::json fields) {
 nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 
 void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << '\n'; }
+
+void finish_writing(std::ofstream& out, const std::string& path, const std::string& what) {
+  errno = 0;
+  if (out.is_open()) out.close();
+  if (out.fail()) {
+    const std::string reason = errno ? std::string(" (") + std::strerror(errno) + ")" : "";
+    throw InputError(path + ": cannot write " + what + reason);
+  }
+}
 
 void progress(const std::string& command, const std::string& what) {
   std::fprintf(stderr, "ldlpgs %s: %s\n", command.c_str(), what.c_str());

@@ -7,6 +7,8 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -28,6 +30,12 @@ void add_ordering_option(CLI::App* cmd, std::string* ordering, const std::string
 // --json: the command's one JSON object on standard output instead of its table.
 void add_json_flag(CLI::App* cmd, bool* json);
 
+// Checks for number options, run on what the user typed (a default is never checked), with a
+// one-line message: "must be a finite number > 0". CLI11's Range and NonNegativeNumber let nan
+// through and spell out DBL_MAX in 310 digits. `open`: the lower bound itself is refused.
+CLI::Validator finite_in(double lo, double hi = HUGE_VAL, bool open = false);
+CLI::Validator integer_in(long long lo, long long hi);
+
 // A comma-separated list (--sizes 100,1000): a space ends it, so `--cases a b` is refused
 // rather than read two ways.
 template <class T>
@@ -48,6 +56,10 @@ nlohmann::json json_header(const std::string& command, nlohmann::json fields = n
 // Non-finite values as null (JSON has no NaN).
 nlohmann::json number_or_null(double x);
 void print_json(const nlohmann::json& j);
+
+// Closes a file written with `out` and throws InputError "PATH: cannot write WHAT (reason)" if any
+// write failed: a stream buffers, so a full disk or /dev/full shows only when it flushes.
+void finish_writing(std::ofstream& out, const std::string& path, const std::string& what);
 
 // A progress line on standard error: "ldlpgs COMMAND: WHAT".
 void progress(const std::string& command, const std::string& what);

@@ -74,7 +74,7 @@ Command add_order_command(CLI::App& app) {
         const std::string path = o->perm_dir + "/" + r.summary.name + ".perm";
         std::ofstream f(path);
         for (int i : r.ordering.perm) f << i << '\n';
-        if (!f) throw InputError(path + ": cannot write file");
+        finish_writing(f, path, "the permutation");
       }
     }
     if (o->json) {

@@ -30,6 +30,15 @@ struct PeersArgs {
 int run_peers(const PeersArgs& a) {
   const Mechanism m = load_mechanism(a.scene);
   if (!(a.seconds > 0) || !std::isfinite(a.seconds)) throw InputError("--seconds must be positive");
+  // At least one step, and at most 10^6 (the references take 16 times as many, at timestep / 16):
+  // 1e308 s was 0 steps once the count overflowed an int, and printed NaN.
+  const double wanted = a.seconds / m.timestep;
+  if (!(wanted >= 0.5) || wanted > 1e6) {
+    char why[160];
+    std::snprintf(why, sizeof why, "--seconds %g: %.3g steps of the scene's %g s; at least 1 and at most 10^6", a.seconds,
+                  wanted, m.timestep);
+    throw InputError(why);
+  }
   const std::string mjcf_path = is_mjcf_path(a.scene) ? a.scene : "";
   std::vector<peers::PeerEngine> table = peers::peer_engines();
   if (!mjcf_path.empty()) table.push_back(peers::mjcf_peer(mjcf_path));

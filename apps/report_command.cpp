@@ -91,7 +91,10 @@ std::string machine() {
 // One table of the report as data: DIR/NAME.json ({"ldlpgs_version", "command": "report",
 // "table", "records"}: one object per row) and DIR/NAME.csv, one line per row, nested objects flattened to a_b columns.
 void write_table(const fs::path& dir, const std::string& name, const nlohmann::json& rows) {
-  std::ofstream(dir / (name + ".json")) << json_header("report", {{"table", name}, {"records", rows}}).dump(1) << '\n';
+  const std::string json_path = (dir / (name + ".json")).string();
+  std::ofstream json(json_path);
+  json << json_header("report", {{"table", name}, {"records", rows}}).dump(1) << '\n';
+  finish_writing(json, json_path, "the table");
   std::vector<nlohmann::json> flat;
   std::vector<std::string> columns;
   for (const nlohmann::json& row : rows) {
@@ -124,6 +127,7 @@ void write_table(const fs::path& dir, const std::string& name, const nlohmann::j
     }
     csv << '\n';
   }
+  finish_writing(csv, (dir / (name + ".csv")).string(), "the table");
 }
 
 // A paper's path as a link from the report directory when the report is inside the project
@@ -262,6 +266,7 @@ Command add_report_command(CLI::App& app) {
     if (ec) throw InputError(o->matrices + ": cannot read directory (" + ec.message() + ")");
     std::sort(files.begin(), files.end());
     for (const std::string& c : o->cases) load_mechanism(c);  // refuse a bad name before the long work
+    if (o->out.empty()) throw InputError("--out-dir: an empty path (the report directory to write)");
     fs::create_directories(fs::path(o->out) / "figures", ec);
     if (!ec) fs::create_directories(fs::path(o->out) / "data", ec);
     if (ec) throw InputError(o->out + ": cannot create the report directory (" + ec.message() + ")");
@@ -455,7 +460,7 @@ Command add_report_command(CLI::App& app) {
       std::ofstream file(index_path);
       file << head << key_findings(out_dir, results, checks, talk_rows, points, breaks)
            << std::string_view(body.data, body.size);
-      if (!file) throw InputError(index_path + ": cannot write");
+      finish_writing(file, index_path, "the report");
     }
     if (!python.empty()) ok = run_script(python, "render_html.py", quoted(index_path) + " " + quoted(out_dir + "/index.html")) && ok;
     // The paths as the user named the directory (relative stays relative): nothing of this

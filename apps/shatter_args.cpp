@@ -3,6 +3,7 @@
 
 #include <limits>
 
+#include "apps/options.h"
 #include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs::cli {
@@ -12,7 +13,8 @@ void add_shatter_options(CLI::App* cmd, ShatterArgs* a) {
                                            "Shatter bodies of more constraint rows than this (physics/shatter.h); "
                                            "the number of shards is chosen by flops")->capture_default_str();
   CLI::Option* shards = cmd->add_option("--shards", a->shards, "Split each of those bodies into this many shards "
-                                        "instead (2..64)");
+                                        "instead (2..64)")
+                             ->check(integer_in(2, kMaxShards));
   cmd->add_flag("--no-shatter", a->none, "Keep the mechanism whole")->excludes(threshold)->excludes(shards);
 }
 

@@ -102,7 +102,7 @@ int run_spy(const SpyArgs& a) {
   if (!a.out.empty()) {
     std::ofstream out(a.out);
     out << j.dump() << '\n';
-    if (!out) throw InputError(a.out + ": cannot write the spy file");
+    finish_writing(out, a.out, "the spy file");
   }
   if (a.json) {
     print_json(j);

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "apps/commands.h"
 #include "apps/options.h"
@@ -146,6 +147,7 @@ int run_step(const StepArgs& a) {
     }
     if (trace.is_open()) write_trace_rows(trace, s, sim, original, shattered);
   }
+  if (trace.is_open()) finish_writing(trace, a.trace, "the trace file");
   const Mechanism& end = sim.mechanism();
   const double energy_final = total_energy(end);
   const bool finite = std::isfinite(energy_final) && std::isfinite(worst.error.position_max);
@@ -264,7 +266,7 @@ Command add_step_command(CLI::App& app) {
   cmd->add_option("--solver", a->solver, "pgs, block-gs, ldl-pgs or direct")->capture_default_str();
   cmd->add_option("--iterations", a->iterations, "Solver iterations per step")->capture_default_str();
   cmd->add_option("--steps", a->steps, "Number of steps")->capture_default_str();
-  cmd->add_option("--timestep", a->timestep, "Time step in seconds (default: the scene's)");
+  cmd->add_option("--timestep", a->timestep, "Time step in seconds (default: the scene's)")->check(finite_in(0, HUGE_VAL, true));
   add_ordering_option(cmd, &a->ordering, "Ordering of H's blocks (ldl-pgs, direct)");
   cmd->add_option("--compliance", a->compliance, "eps of the compliance eps diag(H)")->capture_default_str();
   cmd->add_option("--baumgarte", a->baumgarte, "Fraction of the position error corrected per step")->capture_default_str();
@@ -272,7 +274,8 @@ Command add_step_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--post-stabilize", a->post_stabilize,
                   "At most this many position projection iterations per step on the step's own factor (0: off; "
-                  "default 8 with ldl-pgs and direct, 0 with pgs and block-gs)");
+                  "default 8 with ldl-pgs and direct, 0 with pgs and block-gs)")
+      ->check(integer_in(0, std::numeric_limits<int>::max()));
   cmd->add_flag("--post-stabilize-refactor", a->post_stabilize_refactor,
                 "Refactor at the corrected pose in each post-stabilization iteration (Newton)");
   cmd->add_flag("--curvature-target", a->curvature_target,
@@ -312,12 +315,15 @@ Command add_export_command(CLI::App& app) {
     std::vector<int> sizes;
     const System system = build_system(m, options);
     const SymmetricCsc h = equality_matrix(system, &sizes);
+    // (a 0 x 0 file is one that order, verify and bench refuse, as spy refuses the scene)
+    if (h.n == 0) throw InputError(a->scene + ": no equality constraints, H_0 is empty: nothing to export");
     check_finite_export(a->scene, m, system, h, sizes);
     write_matrix_market(a->matrix, h);
     std::ofstream out(a->blocks);
     if (!out) throw InputError(a->blocks + ": cannot write the block sizes");
     out << "% block sizes of " << a->matrix << ": one equality constraint per block, in row order\n";
     for (int s : sizes) out << s << '\n';
+    finish_writing(out, a->blocks, "the block sizes");
     // The ordering a factor of the written H would use (best's winner), on its blocks.
     const BlockPattern blocks = BlockPattern::from_scalar(h, sizes);
     const std::string chosen = blocks.num_blocks() ? compute_ordering(find_ordering(a->ordering), blocks, h).chosen : "";

@@ -107,9 +107,15 @@ Command add_verify_command(CLI::App& app) {
   add_problem_options(cmd, &o->problem);
   add_ordering_option(cmd, &o->ordering, "Ordering name");
   cmd->add_option("--tolerance", o->tolerance.factor, "Largest relative difference of L, D and x on a "
-                  "well-conditioned matrix; on others, --per-condition times the condition estimate")->capture_default_str();
-  cmd->add_option("--per-condition", o->tolerance.per_condition, "Tolerance per unit of condition number")->capture_default_str();
-  cmd->add_option("--backward-tolerance", o->tolerance.backward, "Largest backward error")->capture_default_str();
+                  "well-conditioned matrix; on others, --per-condition times the condition estimate")
+      ->capture_default_str()
+      ->check(finite_in(0));
+  cmd->add_option("--per-condition", o->tolerance.per_condition, "Tolerance per unit of condition number")
+      ->capture_default_str()
+      ->check(finite_in(0));
+  cmd->add_option("--backward-tolerance", o->tolerance.backward, "Largest backward error")
+      ->capture_default_str()
+      ->check(finite_in(0));
   add_json_flag(cmd, &o->json);
   return [o] {
     const OrderingInfo& info = find_ordering(o->ordering);

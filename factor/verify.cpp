@@ -4,10 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "ldlpgs/sparse/cholmod_adapter.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 
@@ -78,6 +81,13 @@ double condition_estimate(const SymmetricCsc& a, Numeric& f) {
 
 Verification verify_against_cholmod(const SymmetricCsc& a, const BlockPattern& blocks, const Ordering& ordering,
                                     const VerifyTolerance& tolerance, const SymbolicOptions& symbolic) {
+  // A NaN or infinite tolerance turned a check off (backward inf: "agree" whatever the error) or
+  // failed everything (nan: "DISAGREE"); a negative one refuses rounding itself.
+  for (auto [name, value] : {std::pair{"factor", tolerance.factor}, {"per_condition", tolerance.per_condition},
+                             {"backward", tolerance.backward}})
+    if (!(value >= 0) || !std::isfinite(value))
+      throw ArgumentError(std::string("verify_against_cholmod: the ") + name + " tolerance must be finite and >= 0, got " +
+                          std::to_string(value));
   Verification v;
   v.ordering = ordering.name;
   v.chosen = ordering.chosen;

@@ -48,6 +48,7 @@ struct Verification {
   bool ok = false;  // verifiable, both factorizations usable and every difference within the tolerance
 };
 
+// Throws ArgumentError unless every tolerance is finite and >= 0.
 // Factors a (with the partition `blocks`) in the ordering's pivot order with both libraries and
 // solves A x = b for b = A * (1, -1, 1, ...)^T. `symbolic` chooses ours's supernodes.
 Verification verify_against_cholmod(const SymmetricCsc& a, const BlockPattern& blocks, const Ordering& ordering,

@@ -650,6 +650,21 @@ TEST(Verify, CholmodRowIsTheOriginalRow) {
 // Class 6: verify reported agreement on a tolerance it could not compute (cond estimate inf, so
 // tolerance inf, "agree" with x 5.27 off); a tolerance of 1 or more (cond_1 >= 4.5e15) verifies
 // no digit either. Both are "cannot verify", not agreement.
+// A NaN, infinite or negative tolerance is the caller's error: inf had switched the backward check
+// off ("agree" whatever the error), nan failed everything.
+TEST(Verify, NonFiniteOrNegativeToleranceIsRefused) {
+  const SymmetricCsc a = csc_from_triplets(2, std::vector<Triplet>{{0, 0, 2}, {1, 1, 3}});
+  const BlockPattern blocks = BlockPattern::unit(a);
+  Ordering o;
+  o.name = o.chosen = "given";
+  o.pivots = o.perm = {0, 1};
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  for (const VerifyTolerance t : {VerifyTolerance{.backward = inf}, VerifyTolerance{.factor = nan},
+                                  VerifyTolerance{.per_condition = -1}})
+    EXPECT_THROW(verify_against_cholmod(a, blocks, o, t), ArgumentError);
+  EXPECT_TRUE(verify_against_cholmod(a, blocks, o, VerifyTolerance{.factor = 0}).ok);
+}
+
 TEST(Verify, NoAgreementOnAToleranceThatVerifiesNothing) {
   // cond = 2^1000 (finite, > 1 / eps) and cond = 2^1500 (estimate overflows).
   for (int e : {1000, 1500}) {
