@@ -34,7 +34,8 @@ Command add_order_command(CLI::App& app) {
                 "Prove which block orderings have the fewest block flops of any order, or give a lower bound; "
                 "an optimum below them all becomes a row of its own, optimal");
   cmd->add_option("--certify-time-limit-s", o->certify_time_limit_s, "Time limit of the exact search of --certify")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(finite_in(0));
   return [o] {
     const std::vector<std::string> names = parse_ordering_list(o->orderings);
     if (!(o->certify_time_limit_s >= 0) || !std::isfinite(o->certify_time_limit_s))

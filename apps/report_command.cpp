@@ -19,6 +19,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <thread>
 
@@ -243,7 +244,9 @@ Command add_report_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("report", "The main job: orderings, CHOLMOD verification, the talk's table, "
                                                 "speed against error; writes a report directory");
   cmd->add_option("--matrices", o->matrices, "Directory of Matrix Market files")->capture_default_str();
-  add_list_option(cmd, "--sizes", &o->sizes, "Constraint counts of the generated mechanisms")->capture_default_str();
+  add_list_option(cmd, "--sizes", &o->sizes, "Constraint counts of the generated mechanisms")
+      ->capture_default_str()
+      ->check(integer_in(1, std::numeric_limits<int>::max()));
   add_ordering_option(cmd, &o->orderings, "Orderings compared", true);
   cmd->add_flag("--markdown", o->markdown, "Markdown tables on standard output (papers/orderings.md)");
   cmd->add_flag("--cholmod", o->cholmod, "Add CHOLMOD's counts for each permutation");

@@ -1,6 +1,7 @@
 // ldlpgs sweep: speed against error on the hard cases (apps/sweep.h), as Markdown tables and,
 // with --json or --json-file FILE, the points papers/plot_speed_vs_error.py draws.
 #include <fstream>
+#include <limits>
 
 #include "apps/commands.h"
 #include "apps/options.h"
@@ -20,7 +21,8 @@ Command add_sweep_command(CLI::App& app) {
   auto o = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("sweep", "Speed against error of pgs, block-gs, ldl-pgs and direct on the hard cases");
   add_list_option(cmd, "--cases", &o->cases, "Scenes (files or built-in names); default: the hard cases");
-  add_list_option(cmd, "--iterations", &o->iterations, "Iteration counts (default 1,4,16,64; --full: 1,2,4,...,128)");
+  add_list_option(cmd, "--iterations", &o->iterations, "Iteration counts (default 1,4,16,64; --full: 1,2,4,...,128)")
+      ->check(integer_in(1, std::numeric_limits<int>::max()));
   // (at most 10^4 s: 10^6 steps of the scenes' 0.01 s, hours of wall time per run)
   cmd->add_option("--seconds", o->seconds, "Simulated time per run (default 1, --full 2; at most 10^4)")
       ->check(finite_in(0, 1e4, true));

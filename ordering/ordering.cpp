@@ -49,14 +49,14 @@ std::vector<std::string> parse_ordering_list(std::string_view list) {
     for (const OrderingInfo& o : kOrderings) names.emplace_back(o.name);
     return names;
   }
-  while (!list.empty()) {
-    const size_t comma = list.find(',');
-    std::string_view name = list.substr(0, comma);
-    names.emplace_back(find_ordering(name).name);
-    list = comma == std::string_view::npos ? std::string_view() : list.substr(comma + 1);
+  if (list.empty()) throw InputError("empty ordering list (known: " + known_names() + ")");
+  // every item, the empty ones too: "natural," had been read as "natural" and ",natural" refused
+  for (size_t start = 0;;) {
+    const size_t comma = list.find(',', start);
+    names.emplace_back(find_ordering(list.substr(start, comma - start)).name);
+    if (comma == std::string_view::npos) return names;
+    start = comma + 1;
   }
-  if (names.empty()) throw InputError("empty ordering list (known: " + known_names() + ")");
-  return names;
 }
 
 std::string shown_name(std::string_view name, std::string_view chosen) {

@@ -616,7 +616,7 @@ Mechanism load_mechanism(const std::string& spec, MjcfDropped* dropped) {
   std::string known;
   for (const std::string& name : builtin_scene_names()) known += " " + name;
   throw InputError(spec + ": no such file and no built-in scene of that name (built-in:" + known +
-                   "; chain-N and heavy-chain-N-R take any N and R)");
+                   "; chain-N and heavy-chain-N-R take N in 1..100000 and any R > 0)");
 }
 
 }  // namespace ldlpgs

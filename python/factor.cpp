@@ -29,10 +29,21 @@ namespace {
 // A permutation of 0 .. n-1: a 1-D integer array, checked by the library (check_permutation)
 // once its entries are known to fit an int.
 std::vector<int> permutation_from(py::handle perm, int n) {
-  const auto p = py::module_::import("numpy").attr("asarray")(perm).cast<py::array_t<int64_t, py::array::c_style | py::array::forcecast>>();
-  if (p.ndim() != 1) throw ArgumentError("perm must be a 1-D array, got " + std::to_string(p.ndim()) + " dimensions");
+  const py::object array = py::module_::import("numpy").attr("asarray")(perm);
+  // (forcecast alone had truncated [0.5, 1, 2] to [0, 1, 2] without a word)
+  const int ndim = array.attr("ndim").cast<int>();
+  if (ndim != 1) throw ArgumentError("perm must be a 1-D array, got " + std::to_string(ndim) + " dimensions");
+  const std::string kind = py::str(array.attr("dtype").attr("kind"));
+  if (kind != "i" && kind != "u" && py::len(array) > 0)  // (an empty list is float64 in NumPy)
+    throw ArgumentError("perm must be an array of integers, got dtype " + std::string(py::str(array.attr("dtype"))));
+  const auto p = array.cast<py::array_t<int64_t, py::array::c_style | py::array::forcecast>>();
   std::vector<int> out(p.size());
-  for (py::ssize_t k = 0; k < p.size(); ++k) out[k] = static_cast<int>(std::clamp<int64_t>(p.at(k), -1, n));
+  for (py::ssize_t k = 0; k < p.size(); ++k) {
+    if (p.at(k) < 0 || p.at(k) >= n)  // named here: an int64 outside int's range cannot reach check_permutation
+      throw ArgumentError("cholmod_counts: entry " + std::to_string(k) + " of the permutation, " + std::to_string(p.at(k)) +
+                          ", is outside 0.." + std::to_string(n - 1));
+    out[k] = static_cast<int>(p.at(k));
+  }
   check_permutation(out, n, "cholmod_counts");
   return out;
 }

@@ -246,6 +246,10 @@ TEST(Orderings, UnknownNameIsAnInputError) {
   EXPECT_THROW(find_ordering("colamd"), InputError);
   EXPECT_THROW(parse_ordering_list("mda,bogus"), InputError);
   EXPECT_THROW(parse_ordering_list(""), InputError);
+  // an empty name anywhere: "natural," had been read as "natural" where ",natural" was refused
+  EXPECT_THROW(parse_ordering_list("natural,"), InputError);
+  EXPECT_THROW(parse_ordering_list(",natural"), InputError);
+  EXPECT_THROW(parse_ordering_list("mda,,amd"), InputError);
   EXPECT_EQ(parse_ordering_list("all").size(), orderings().size());
   EXPECT_EQ(parse_ordering_list("meca,amd"), (std::vector<std::string>{"meca", "amd"}));
 }

@@ -116,6 +116,18 @@ def test_bad_permutation():
         ldlpgs.cholmod_counts(A, np.zeros(48, dtype=int))
     with pytest.raises(ValueError, match="outside 0..47"):
         ldlpgs.cholmod_counts(A, np.arange(1, 49))
+    # the value itself, not clipped to n (it said 48 for 1000)
+    with pytest.raises(ValueError, match=r"entry 47 of the permutation, 1000, is outside 0..47"):
+        ldlpgs.cholmod_counts(A, np.r_[np.arange(47), 1000])
+    # floats are refused, not truncated to integers
+    with pytest.raises(ValueError, match="integers, got dtype float64"):
+        ldlpgs.cholmod_counts(A, np.arange(48) + 0.5)
+
+
+@pytest.mark.parametrize("keyword", [{"tolerance": np.nan}, {"backward_tolerance": np.inf}, {"per_condition": -1.0}])
+def test_bad_verify_tolerance(keyword):
+    with pytest.raises(ValueError, match="must be finite and >= 0"):
+        ldlpgs.verify(A, **keyword)
 
 
 def test_factor_misuse():
