@@ -22,7 +22,16 @@ namespace {
 // library), and a dict in the scene file format.
 Mechanism load_mechanism(py::handle scene) {
   if (py::isinstance<py::dict>(scene)) {
-    const std::string text = py::module_::import("json").attr("dumps")(scene).cast<std::string>();
+    // JSON has no NaN or infinity: Python's dumps would write NaN, which nlohmann's parser
+    // refused with its own parse_error (a RuntimeError). What dumps cannot write (a NaN, a value
+    // of no JSON type) is bad input, in one line.
+    std::string text;
+    try {
+      text = py::module_::import("json").attr("dumps")(scene, py::arg("allow_nan") = false).cast<std::string>();
+    } catch (py::error_already_set& e) {
+      throw InputError("<dict>: not a scene in JSON terms (" + printable(e.what(), 120) +
+                       "; numbers must be finite)");
+    }
     return parse_scene(nlohmann::json::parse(text), "<dict>");
   }
   if (!py::isinstance<py::str>(scene) && !py::hasattr(scene, "__fspath__"))

@@ -147,6 +147,15 @@ def test_factor_misuse():
         f.factorize(A, regularization=-1)
 
 
+@pytest.mark.parametrize("mass", [float("nan"), float("inf"), np.int64(3)])
+def test_scene_dict_that_is_not_json(mass):
+    # NaN and inf (JSON has none), and a value of no JSON type: ldlpgs.InputError, not the JSON
+    # parser's RuntimeError
+    scene = {"name": "s", "bodies": [{"name": "a", "mass": mass, "inertia": [1, 1, 1]}], "constraints": []}
+    with pytest.raises(ldlpgs.InputError, match="<dict>: not a scene in JSON terms"):
+        ldlpgs.Simulation(scene)
+
+
 def test_simulation_errors():
     with pytest.raises(ValueError, match="no-such-scene: no such file and no built-in scene"):
         ldlpgs.Simulation("no-such-scene")
