@@ -171,6 +171,13 @@ Parsed parse_real(std::string_view s, double& value) {
   return Parsed::ok;
 }
 
+// An integer file's values: digits with an optional sign, read as reals (parse_real) so that
+// one beyond 64 bits is still a value, not an error. "1.5" was read as 1.5 (C15).
+bool is_integer(std::string_view s) {
+  if (!s.empty() && (s[0] == '+' || s[0] == '-')) s.remove_prefix(1);
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
 // The shortest text that reads back as v, so that two values differing in the last bit print
 // differently in a symmetry message.
 std::string format(double v) {
@@ -416,6 +423,11 @@ SymmetricCsc read_matrix_market(const std::string& path) {
       }
     }
     double value = 1;
+    if (header.field == Field::integer && !is_integer(f[2])) {
+      fail(path, at,
+           "entry " + position(index[0], index[1]) + " has value " + quoted(f[2]) +
+               ", not an integer: the banner declares an integer matrix");
+    }
     if (!pattern) {
       const Parsed p = parse_real(f[2], value);
       if (p == Parsed::malformed) {

@@ -186,8 +186,10 @@ TEST(MatrixMarket, UpperEntryInSymmetricFileIsStoredTransposed) {
 
 TEST(MatrixMarket, IntegerFieldIsReadAsReal) {
   const SymmetricCsc a = read_text(
-      "%%MatrixMarket matrix coordinate integer symmetric\n2 2 3\n1 1 3\n2 1 -2\n2 2 9\n");
-  const std::map<std::pair<int, int>, double> expected{{{0, 0}, 3}, {{1, 0}, -2}, {{1, 1}, 9}};
+      "%%MatrixMarket matrix coordinate integer symmetric\n3 3 3\n1 1 3\n2 1 -2\n3 3 "
+      "+123456789012345678901234\n");
+  const std::map<std::pair<int, int>, double> expected{
+      {{0, 0}, 3}, {{1, 0}, -2}, {{2, 2}, 123456789012345678901234.0}};
   EXPECT_EQ(entries(a), expected);
 }
 
@@ -348,6 +350,15 @@ TEST(MatrixMarketError, MalformedLineNonNumeric) {
   expect_error(kBanner + "3 3 2\n1 1 1\n2 1 abc\n", 4, {"malformed", "'abc'"});
   expect_error(kBanner + "3 3 2\n1 1 1\n2 1.5 1\n", 4, {"malformed", "column index"});
   expect_error(kBanner + "3 3 2\n1 1 1\n2 1 1.5x\n", 4, {"malformed", "'1.5x'"});
+}
+
+// C15: "1 1 1.5" in an integer file was read as 1.5.
+TEST(MatrixMarketError, NonIntegerValueInAnIntegerFile) {
+  const std::string banner = "%%MatrixMarket matrix coordinate integer symmetric\n";
+  expect_error(banner + "2 2 2\n1 1 3\n2 1 1.5\n", 4, {"entry (2,1)", "'1.5'", "not an integer"});
+  for (const std::string value : {"3.0", "1e3", "-", "0x10"}) {
+    expect_error(banner + "1 1 1\n1 1 " + value + "\n", 3, {"'" + value + "'", "not an integer"});
+  }
 }
 
 TEST(MatrixMarketError, NanValue) {
