@@ -477,6 +477,10 @@ class ChunkReader : public std::streambuf {
     return traits_type::to_int_type(*begin);
   }
 
+ public:
+  // Bytes the parser has taken (read past by at most a chunk in `text`).
+  size_t consumed() const { return text_->size() - static_cast<size_t>(egptr() - gptr()); }
+
  private:
   const std::string& path_;
   std::streambuf* file_;
@@ -527,6 +531,11 @@ Mechanism load_scene(const std::string& path) {
     throw InputError(cat(path, ": invalid JSON: ", printable(what, 200)));
   } catch (const json::exception& e) {
     throw InputError(cat(path, ": invalid JSON: ", printable(e.what(), 200)));
+  }
+  // nlohmann-json takes a NUL byte for the end of the input, so that a scene followed by one and
+  // anything at all (a NUL-padded file, `cat scene.json /dev/zero`) was accepted, the rest unread.
+  if (reader.consumed() > 0 && text[reader.consumed() - 1] == '\0') {
+    throw InputError(cat(where(reader.consumed() - 1), ": invalid JSON: a NUL byte after the scene"));
   }
   return parse_scene(scene, path);
 }

@@ -662,6 +662,16 @@ TEST(SceneBadInput, NulBytesAreRefusedWhereTheyStart) {
   }
 }
 
+// nlohmann-json takes a NUL byte for the end of the input: a scene followed by one and anything
+// (here, or a scene piped with /dev/zero after it) was accepted, the rest never read.
+TEST(SceneBadInput, NulByteAfterTheScene) {
+  const std::string scene = valid().dump() + "\n";
+  const std::string path = temp_file("scene.json", scene + std::string(1, '\0') + "garbage}");
+  EXPECT_EQ(file_error_of(path), path + ":2:1: invalid JSON: a NUL byte after the scene");
+  // a complete scene ending the file, or followed by whitespace, reads as before
+  EXPECT_EQ(load_scene(temp_file("ok.json", scene + " \t\r\n")).bodies.size(), 4u);
+}
+
 // A read error (EIO: /proc/self/mem at offset 0 is not mapped) was swallowed by the stream copy
 // and reported as "1:1: invalid JSON: unexpected end of input".
 TEST(SceneBadInput, ReadErrorIsNamed) {
