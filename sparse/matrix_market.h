@@ -12,7 +12,10 @@ namespace ldlpgs {
 // definite. Unlike CHOLMOD 3.0 (SuiteSparse 5.12), which leaves a missing diagonal out, we add
 // it, so that every pattern matrix is positive definite (no test matrix lacks one). Throws InputError ("FILE:LINE: problem") on anything
 // else: missing file, bad header, array/complex format, truncated data, index out of range,
-// non-finite value, duplicate entry, non-square or unsymmetric matrix.
+// non-finite value, a value not an integer in an integer file, duplicate entry, non-square or
+// unsymmetric matrix; and on a binary file, a line over 1 MiB or over 64 MiB of comments, having
+// read little more than that (a chunk at a time: /dev/zero fails at its first 64 KiB). Named
+// pipes (bash's <(...)) read as files do.
 SymmetricCsc read_matrix_market(const std::string& path);
 
 // Writes the lower triangle as "coordinate real symmetric", values to full precision.

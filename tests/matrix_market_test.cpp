@@ -4,13 +4,18 @@
 #include "ldlpgs/sparse/matrix_market.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <csignal>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -181,8 +186,10 @@ TEST(MatrixMarket, UpperEntryInSymmetricFileIsStoredTransposed) {
 
 TEST(MatrixMarket, IntegerFieldIsReadAsReal) {
   const SymmetricCsc a = read_text(
-      "%%MatrixMarket matrix coordinate integer symmetric\n2 2 3\n1 1 3\n2 1 -2\n2 2 9\n");
-  const std::map<std::pair<int, int>, double> expected{{{0, 0}, 3}, {{1, 0}, -2}, {{1, 1}, 9}};
+      "%%MatrixMarket matrix coordinate integer symmetric\n3 3 3\n1 1 3\n2 1 -2\n3 3 "
+      "+123456789012345678901234\n");
+  const std::map<std::pair<int, int>, double> expected{
+      {{0, 0}, 3}, {{1, 0}, -2}, {{2, 2}, 123456789012345678901234.0}};
   EXPECT_EQ(entries(a), expected);
 }
 
@@ -345,6 +352,15 @@ TEST(MatrixMarketError, MalformedLineNonNumeric) {
   expect_error(kBanner + "3 3 2\n1 1 1\n2 1 1.5x\n", 4, {"malformed", "'1.5x'"});
 }
 
+// C15: "1 1 1.5" in an integer file was read as 1.5.
+TEST(MatrixMarketError, NonIntegerValueInAnIntegerFile) {
+  const std::string banner = "%%MatrixMarket matrix coordinate integer symmetric\n";
+  expect_error(banner + "2 2 2\n1 1 3\n2 1 1.5\n", 4, {"entry (2,1)", "'1.5'", "not an integer"});
+  for (const std::string value : {"3.0", "1e3", "-", "0x10"}) {
+    expect_error(banner + "1 1 1\n1 1 " + value + "\n", 3, {"'" + value + "'", "not an integer"});
+  }
+}
+
 TEST(MatrixMarketError, NanValue) {
   expect_error(kBanner + "3 3 2\n1 1 1\n2 1 nan\n", 4, {"(2,1)", "non-finite", "nan"});
 }
@@ -462,5 +478,120 @@ TEST(MatrixMarket, ControlBytesInAnEntryAreEscapedInTheMessage) {
   EXPECT_NE(message.find("\\x00x\\x1b[2J"), std::string::npos) << message;
   for (char c : message) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "byte " << int(c) << " in: " << message;
 }
+
+// --- a chunk at a time: bad input is refused having read little of it ------------------------
+
+// The bytes the process reads (Linux's /proc/self/io rchar) while fn runs; -1 if unknown.
+int64_t bytes_read_by(const std::function<void()>& fn) {
+  auto rchar = []() -> int64_t {
+    std::ifstream io("/proc/self/io");
+    std::string key;
+    int64_t value;
+    while (io >> key >> value) {
+      if (key == "rchar:") return value;
+    }
+    return -1;
+  };
+  const int64_t before = rchar();
+  fn();
+  const int64_t after = rchar();
+  return before < 0 || after < 0 ? -1 : after - before;
+}
+
+// path, of `size` bytes: content, then NUL bytes to the end (a sparse file: no disk used).
+std::string padded_with_nul(const std::string& name, const std::string& content, uintmax_t size) {
+  const std::string path = temp_file(name, content);
+  fs::resize_file(path, size);
+  return path;
+}
+
+// `ldlpgs order /dev/zero` never returned, and a 2 GB file of NUL bytes took 33 s and 4.2 GB:
+// the whole file was read before its first line was looked at. Now one chunk (64 KiB) is.
+TEST(MatrixMarketError, NulFileIsRefusedAtItsFirstChunk) {
+  const std::string path = padded_with_nul("nul.mtx", "", uintmax_t{256} << 20);
+  std::string message;
+  const int64_t read = bytes_read_by([&] { message = error_of(path); });
+  EXPECT_EQ(message.substr(0, path.size() + 3), path + ":1:") << message;
+  EXPECT_NE(message.find("not a Matrix Market file"), std::string::npos) << message;
+  if (read < 0) GTEST_SKIP() << "no /proc/self/io";
+  EXPECT_LT(read, 1 << 20);
+}
+
+// A first line of a megabyte: refused within its first 64 KiB, whether or not it starts with
+// the banner (the old reader took the latter for a banner and said the size line was missing).
+TEST(MatrixMarketError, FirstLineLongerThanABanner) {
+  int64_t read = bytes_read_by([&] {
+    expect_error(std::string(1 << 20, 'x'), 1, {"not a Matrix Market file"});
+  });
+  const std::string spaces = kBanner.substr(0, kBanner.size() - 1) + std::string(1 << 20, ' ');
+  read += bytes_read_by([&] { expect_error(spaces + "\n3 3 0\n", 1, {"banner line is longer than 65536"}); });
+  if (read < 0) GTEST_SKIP() << "no /proc/self/io";
+  EXPECT_LT(read, 1 << 20);
+}
+
+// After a good banner (and size line), bytes without a newline (a banner followed by /dev/zero)
+// are refused once past 1 MiB, not read to their end.
+TEST(MatrixMarketError, LineLongerThanAMegabyte) {
+  for (const auto& [content, line] : {std::pair<std::string, int>{kBanner, 2}, {kBanner + "3 3 1\n", 3}}) {
+    const std::string path = padded_with_nul("nul_after.mtx", content, uintmax_t{64} << 20);
+    std::string message;
+    const int64_t read = bytes_read_by([&] { message = error_of(path); });
+    const std::string prefix = path + ":" + std::to_string(line) + ": line is longer than 1048576 bytes";
+    EXPECT_EQ(message.substr(0, prefix.size()), prefix) << message;
+    EXPECT_NE(message.find("'\\x00\\x00"), std::string::npos) << message;
+    if (read >= 0) {
+      EXPECT_LT(read, 2 << 20);
+    }
+  }
+}
+
+// Comments and blank lines are capped at 64 MiB in all, so that a good header followed by
+// endless blank lines (`yes ''`) is not read forever.
+TEST(MatrixMarketError, EndlessBlankLines) {
+  expect_error(kBanner + "3 3 0\n" + std::string((64 << 20) + 1, '\n'), (64 << 20) + 3,
+               {"more than 67108864 bytes of comments and blank lines"});
+}
+
+// A named pipe (as bash's <(...) gives) reads as the same file does, over many chunks and the
+// pipe's short reads; one of NUL bytes is refused at its first chunk, the writer then stopped by
+// EPIPE (or, with the old reader, after writing all of it).
+TEST(MatrixMarket, NamedPipeReadsAsAFile) {
+  std::signal(SIGPIPE, SIG_IGN);
+  auto through_fifo = [](const std::string& content, const std::function<void(const std::string&)>& read) {
+    static int count = 0;
+    const std::string fifo = testing::temp_path("fifo" + std::to_string(++count) + ".mtx");
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0) << std::strerror(errno);
+    std::thread writer([&] {
+      std::FILE* f = std::fopen(fifo.c_str(), "wb");
+      if (!f) return;
+      std::fwrite(content.data(), 1, content.size(), f);
+      std::fclose(f);
+    });
+    try {
+      read(fifo);
+    } catch (...) {
+      writer.join();
+      throw;
+    }
+    writer.join();
+  };
+  const int n = 20000;  // some 500 KB
+  std::string text = kBanner + std::to_string(n) + " " + std::to_string(n) + " " + std::to_string(2 * n - 1) + "\n";
+  for (int i = 1; i <= n; ++i) {
+    text += std::to_string(i) + " " + std::to_string(i) + " 4.25\r\n";
+    if (i > 1) text += "% a comment\n" + std::to_string(i) + " " + std::to_string(i - 1) + " -1.5";
+    if (i > 1 && i < n) text += "\n";  // the last line without its newline
+  }
+  through_fifo(text, [&](const std::string& fifo) { expect_same(read_matrix_market(fifo), read_text(text), 0); });
+  through_fifo(std::string(64 << 20, '\0'), [&](const std::string& fifo) {
+    std::string message;
+    const int64_t read = bytes_read_by([&] { message = error_of(fifo); });
+    EXPECT_NE(message.find(fifo + ":1: not a Matrix Market file"), std::string::npos) << message;
+    if (read >= 0) {
+      EXPECT_LT(read, 1 << 20);
+    }
+  });
+}
+
 }  // namespace
 }  // namespace ldlpgs
