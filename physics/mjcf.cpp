@@ -6,6 +6,8 @@
 #include "ldlpgs/physics/mjcf.h"
 
 #include <algorithm>
+#include <array>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -483,10 +485,43 @@ constexpr std::string_view kNumericAttributes[] = {
     "solref",   "solimp",      "friction",   "impratio",  "tolerance", "wind",     "magnetic", "viscosity"};
 constexpr int kMaxIncludeDepth = 16;
 
-void check_numbers(const std::string& path, const std::string& file, int depth) {
+// An MJCF file is text of some kilobytes (MuJoCo's humanoid: 9 KB): past this it is not one.
+constexpr size_t kMaxMjcfBytes = size_t{1} << 26;
+
+// The file's text, read a chunk at a time so that what is not XML fails at its first chunk: read
+// whole, a directory named d.xml threw libstdc++'s ios_base::failure (exit 3, "internal error"),
+// and /dev/zero named z.xml never returned.
+std::string read_mjcf_text(const std::string& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw InputError(printable(file) + ": cannot read: it is a directory");
   std::ifstream in(file, std::ios::binary);
-  if (!in) return;  // MuJoCo names what is missing
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in) return {};  // MuJoCo names what is missing
+  std::string text;
+  try {
+    std::array<char, 1 << 16> chunk;
+    while (in.read(chunk.data(), chunk.size()) || in.gcount() > 0) {
+      const bool first = text.empty();
+      text.append(chunk.data(), static_cast<size_t>(in.gcount()));
+      if (first) {
+        // XML starts with '<' after blanks (and a UTF-8 byte order mark)
+        size_t at = text.starts_with("\xEF\xBB\xBF") ? 3 : 0;
+        while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at]))) ++at;
+        if (at == text.size() || text[at] != '<')
+          throw InputError(printable(file) + ": not an MJCF (XML) file: it does not start with '<'");
+      }
+      if (text.size() > kMaxMjcfBytes)
+        throw InputError(printable(file) + ": more than " + std::to_string(kMaxMjcfBytes >> 20) +
+                         " MiB: not an MJCF model (those are kilobytes)");
+    }
+  } catch (const std::ios_base::failure& e) {
+    throw InputError(printable(file) + ": cannot read: " + printable(e.what(), 80));
+  }
+  return text;
+}
+
+void check_numbers(const std::string& path, const std::string& file, int depth) {
+  const std::string text = read_mjcf_text(file);
+  if (text.empty()) return;
   auto fail = [&](size_t at, std::string_view element, std::string_view attribute, std::string_view value,
                   const char* problem) {
     std::string s = printable(file);

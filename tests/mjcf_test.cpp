@@ -380,6 +380,19 @@ TEST(MjcfBadInput, UnparsableFile) {
 
 TEST(MjcfBadInput, MissingFile) { expect_refused("/nonexistent/model.xml", {"MuJoCo cannot load it"}); }
 
+// Read whole, a directory named *.xml threw ios_base::failure: exit 3, "internal error".
+TEST(MjcfBadInput, DirectoryNamedXml) {
+  const std::string dir = testing::temp_path("model-dir.xml");
+  std::filesystem::create_directories(dir);
+  expect_refused(dir, {"it is a directory"});
+}
+
+// Not XML: refused at its first chunk (a 2 GB file of NUL bytes had been read whole, /dev/zero forever).
+TEST(MjcfBadInput, NotXml) {
+  expect_refused(temp_file("nul.xml", std::string(100000, '\0')), {"not an MJCF (XML) file"});
+  expect_refused(temp_file("text.xml", "  mujoco"), {"does not start with '<'"});
+}
+
 TEST(MjcfBadInput, ThreeSlides) {
   expect_refused(temp_file("slides.xml", "<mujoco><worldbody><body name=\"box\"><joint name=\"x\" type=\"slide\" axis=\"1 0 0\"/>"
                                          "<joint name=\"y\" type=\"slide\" axis=\"0 1 0\"/><joint name=\"z\" type=\"slide\" "
