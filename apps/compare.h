@@ -61,13 +61,18 @@ void print_certificate(std::FILE* out, const std::vector<Row>& rows, const Block
 // One verification (verify --json, report/data/verification.*).
 nlohmann::json to_json(const Problem& p, const Verification& v);
 
-// What a verification concluded, as the tables print it: "yes" (every difference within the
-// tolerance), "no" (a difference beyond it), "not verified" (ours or CHOLMOD refused the matrix:
-// nothing to compare) or "cannot verify" (the tolerance checks no digit; factor/verify.h).
-const char* verdict(const Verification& v);
+// What a verification concluded: every difference within the tolerance, one beyond it, nothing to
+// compare (ours or CHOLMOD refused the matrix), or a tolerance that checks no digit (factor/verify.h).
+enum class Verdict { agree, disagree, not_verified, cannot_verify };
+Verdict verdict(const Verification& v);
+// As the tables print it: "yes", "no", "not verified", "cannot verify".
+const char* to_string(Verdict v);
+// The rows that do not agree, counted by kind: "1 disagree, 2 not verified (a solver refused the
+// matrix)"; "" when all agree.
+std::string not_agreeing(const std::vector<std::pair<std::string, Verification>>& rows);
 
 // The block LDL^T against CHOLMOD (factor/verify.h), one row per problem, as text or Markdown
-// (verify_command.cpp); the last column is verdict().
+// (verify_command.cpp); the last column is to_string(verdict()).
 void print_verification_table(std::FILE* out, const std::vector<std::pair<std::string, Verification>>& rows,
                               bool markdown);
 

@@ -6,7 +6,10 @@
 // or a family size too large for this machine); any other exception is a bug of ours, exit 3,
 // its message printed as one bounded line.
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
+#include <iostream>
 #include <map>
 #include <new>
 #include <stdexcept>
@@ -166,7 +169,19 @@ int main(int argc, char** argv) {
   std::string input;  // the command's arguments, to name what was too large
   for (int k = 1; k < argc; ++k) (input += k > 1 ? " " : "") += argv[k];
   try {
-    for (CLI::App* sub : app.get_subcommands()) return commands.at(sub)();
+    for (CLI::App* sub : app.get_subcommands()) {
+      const int code = commands.at(sub)();
+      // What the command printed may still sit in a buffer: a full disk (or `> /dev/full`)
+      // shows only now, and had exited 0 with nothing written.
+      std::cout.flush();
+      errno = 0;
+      if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout)) {
+        std::fprintf(stderr, "ldlpgs: cannot write standard output%s\n",
+                     errno ? (std::string(" (") + std::strerror(errno) + ")").c_str() : "");
+        return 2;
+      }
+      return code;
+    }
   } catch (const ldlpgs::InputError& e) {
     // (the readers quote input through printable() already: its escapes are kept as they are)
     std::fprintf(stderr, "ldlpgs: %s\n", ldlpgs::printable(e.what(), 400, false).c_str());

@@ -2,8 +2,10 @@
 #include "apps/options.h"
 
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <cstdio>
 #include <iostream>
 
@@ -17,7 +19,9 @@ void add_problem_options(CLI::App* cmd, ProblemArgs* a) {
                                       "mechanism with H = J W J^T values (e.g. grid:100)")->required();
   cmd->add_option("--blocks", a->blocks, "Input block partition: auto (identical consecutive rows), N (uniform), or "
                                          "a file with one block size per line")->capture_default_str();
-  cmd->add_option("--max-block", a->max_block, "Largest block --blocks auto forms")->capture_default_str();
+  cmd->add_option("--max-block", a->max_block, "Largest block --blocks auto forms")
+      ->capture_default_str()
+      ->check(integer_in(1, std::numeric_limits<int>::max()));
   cmd->add_flag("--split-blocks", a->split_blocks,
                 "Drop the matrix's exact zeros and split each block (of --blocks, or a generated mechanism's "
                 "constraints) into runs of rows with identical patterns");
@@ -63,8 +67,15 @@ CLI::Validator finite_in(double lo, double hi, bool open) {
 CLI::Validator integer_in(long long lo, long long hi) {
   return CLI::Validator(
       [lo, hi](std::string& text) -> std::string {
+        // Decimal, whatever the leading zeros: CLI11's conversion reads "010" as octal 8, so
+        // `--shards 010` had meant 8 shards. The text is rewritten to what CLI11 then converts.
         long long x = 0;
-        if (CLI::detail::lexical_cast(text, x) && x >= lo && x <= hi) return {};
+        const char* first = text.data() + (text.starts_with('+') ? 1 : 0);
+        const auto [end, ec] = std::from_chars(first, text.data() + text.size(), x);
+        if (!text.empty() && ec == std::errc() && end == text.data() + text.size() && x >= lo && x <= hi) {
+          text = std::to_string(x);
+          return {};
+        }
         return "'" + printable(text, 40) + "': must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
       },
       "");
@@ -81,12 +92,11 @@ nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::js
 void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << '\n'; }
 
 void finish_writing(std::ofstream& out, const std::string& path, const std::string& what) {
+  auto reason = [] { return errno ? std::string(" (") + std::strerror(errno) + ")" : std::string(); };
+  if (!out.is_open()) throw InputError(path + ": cannot write " + what + ": cannot open it" + reason());  // errno of the open
   errno = 0;
-  if (out.is_open()) out.close();
-  if (out.fail()) {
-    const std::string reason = errno ? std::string(" (") + std::strerror(errno) + ")" : "";
-    throw InputError(path + ": cannot write " + what + reason);
-  }
+  out.close();
+  if (out.fail()) throw InputError(path + ": cannot write " + what + reason());
 }
 
 void progress(const std::string& command, const std::string& what) {

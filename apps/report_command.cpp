@@ -170,20 +170,22 @@ std::string key_findings(const std::string& out_dir, const std::vector<std::pair
     std::snprintf(line, sizeof line, "- **Orderings**: %zu problems compared; MECA and AMD were not both run (%s).\n",
                   results.size(), paper(out_dir, "orderings.md").c_str());
   md += line;
-  int agree = 0, refused = 0;
+  int agree = 0, verified = 0;
   double worst = 0;
   for (const auto& [name, v] : checks) {
-    agree += v.ok;
-    refused += std::string(verdict(v)) == "not verified";
-    // (a refused matrix's differences are NaN, which std::max passes over)
+    agree += verdict(v) == Verdict::agree;
+    if (verdict(v) != Verdict::agree && verdict(v) != Verdict::disagree) continue;  // nothing measured
+    ++verified;
     worst = std::max({worst, v.L_rel_diff, v.D_rel_diff, v.x_rel_diff});
   }
-  const std::string refusals =
-      refused ? ", and " + std::to_string(refused) + " refused by a solver, so not verified" : "";
+  char largest[96] = "nothing was verified";
+  if (verified) std::snprintf(largest, sizeof largest, "the largest relative difference of L, D or x is %.1e", worst);
+  const std::string others = not_agreeing(checks);
   // the tolerance grows with the condition estimate, so the largest difference alone says little
   std::snprintf(line, sizeof line, "- **The block LDL^T against CHOLMOD**: %d of %zu problems agree within "
-                "max(1e-10, eps cond_1); the largest relative difference of L, D or x is %.1e%s (%s).\n",
-                agree, checks.size(), worst, refusals.c_str(), paper(out_dir, "factor.md").c_str());
+                "max(1e-10, eps cond_1); %s%s (%s).\n",
+                agree, checks.size(), largest, others.empty() ? "" : ("; " + others).c_str(),
+                paper(out_dir, "factor.md").c_str());
   md += line;
   if (talk_rows > 0)
     std::snprintf(line, sizeof line, "- **The talk's figures**: %d mechanisms measured beside the talk's numbers "
@@ -372,13 +374,7 @@ Command add_report_command(CLI::App& app) {
     print_verification_table(stdout, checks, o->markdown);
     // A row that is not yes is one of three things (verdict()): counted apart, so that a matrix
     // a solver refused is not reported as a disagreement.
-    std::string not_all;
-    for (auto [kind, said] : {std::pair{"no", "disagree"}, {"not verified", "not verified (a solver refused the matrix)"},
-                              {"cannot verify", "cannot verify (the tolerance checks no digit)"}}) {
-      const auto count = std::count_if(checks.begin(), checks.end(),
-                                       [&](const auto& c) { return std::string(verdict(c.second)) == kind; });
-      if (count > 0) not_all += (not_all.empty() ? "" : ", ") + std::to_string(count) + " " + said;
-    }
+    const std::string not_all = not_agreeing(checks);
     const bool all_agree = not_all.empty();
     if (!all_agree)
       std::printf("NOT ALL AGREE: %s; tolerances in factor/verify.h\n", not_all.c_str());

@@ -11,7 +11,9 @@ namespace ldlpgs::cli {
 void add_shatter_options(CLI::App* cmd, ShatterArgs* a) {
   CLI::Option* threshold = cmd->add_option("--shatter", a->threshold,
                                            "Shatter bodies of more constraint rows than this (physics/shatter.h); "
-                                           "the number of shards is chosen by flops")->capture_default_str();
+                                           "the number of shards is chosen by flops")
+                                 ->capture_default_str()
+                                 ->check(integer_in(1, std::numeric_limits<int>::max()));
   CLI::Option* shards = cmd->add_option("--shards", a->shards, "Split each of those bodies into this many shards "
                                         "instead (2..64)")
                              ->check(integer_in(2, kMaxShards));

@@ -264,8 +264,12 @@ Command add_step_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("step", "Step a scene and measure solve time against constraint error");
   cmd->add_option("scene", a->scene, "Scene file (JSON) or built-in scene name (e.g. chain-10, four-bar)")->required();
   cmd->add_option("--solver", a->solver, "pgs, block-gs, ldl-pgs or direct")->capture_default_str();
-  cmd->add_option("--iterations", a->iterations, "Solver iterations per step")->capture_default_str();
-  cmd->add_option("--steps", a->steps, "Number of steps")->capture_default_str();
+  cmd->add_option("--iterations", a->iterations, "Solver iterations per step")
+      ->capture_default_str()
+      ->check(integer_in(1, std::numeric_limits<int>::max()));
+  cmd->add_option("--steps", a->steps, "Number of steps")
+      ->capture_default_str()
+      ->check(integer_in(1, std::numeric_limits<int>::max()));
   cmd->add_option("--timestep", a->timestep, "Time step in seconds (default: the scene's)")->check(finite_in(0, HUGE_VAL, true));
   add_ordering_option(cmd, &a->ordering, "Ordering of H's blocks (ldl-pgs, direct)");
   cmd->add_option("--compliance", a->compliance, "eps of the compliance eps diag(H)")->capture_default_str();

@@ -23,24 +23,27 @@ void print(const Problem& p, const Verification& v) {
   std::printf("%-24s %14s %14s\n", "", "ldlpgs", "CHOLMOD");
   std::printf("%-24s %14lld %14lld\n", "nnz(L)", static_cast<long long>(v.nnz_L), static_cast<long long>(v.nnz_L_cholmod));
   std::printf("%-24s %14.0f %14.0f\n", "flops", v.flops, v.flops_cholmod);
-  std::printf("%-24s %14.2e %14.2e   (tolerance %.0e)\n", "backward error", v.backward_error,
-              v.backward_error_cholmod, v.tolerance.backward);
-  std::printf("%-24s %14.2e\n", "condition estimate", v.condition_estimate);
   const double t = v.factor_tolerance;
-  std::printf("%-24s %14.2e   (tolerance %.1e)\n", "L max rel. difference", v.L_rel_diff, t);
-  std::printf("%-24s %14.2e   (tolerance %.1e)\n", "D max rel. difference", v.D_rel_diff, t);
-  std::printf("%-24s %14.2e   (tolerance %.1e)\n", "x rel. difference", v.x_rel_diff, t);
-  std::printf("factorization: %s\n", v.info.message().c_str());
   // Either side refusing the matrix leaves nothing to compare: said as such, not as a
-  // disagreement. CHOLMOD stops only at an exactly zero pivot, ours at its threshold
+  // disagreement, and without the NaN differences and zero tolerance left in its fields.
+  // CHOLMOD stops only at an exactly zero pivot, ours at its threshold
   // (FactorOptions::zero_pivot), so a nearly singular matrix may stop one and not the other.
-  const std::string said = verdict(v);
-  if (said == "not verified") {
+  const Verdict said = verdict(v);
+  if (said != Verdict::not_verified) {
+    std::printf("%-24s %14.2e %14.2e   (tolerance %.0e)\n", "backward error", v.backward_error,
+                v.backward_error_cholmod, v.tolerance.backward);
+    std::printf("%-24s %14.2e\n", "condition estimate", v.condition_estimate);
+    std::printf("%-24s %14.2e   (tolerance %.1e)\n", "L max rel. difference", v.L_rel_diff, t);
+    std::printf("%-24s %14.2e   (tolerance %.1e)\n", "D max rel. difference", v.D_rel_diff, t);
+    std::printf("%-24s %14.2e   (tolerance %.1e)\n", "x rel. difference", v.x_rel_diff, t);
+  }
+  std::printf("factorization: %s\n", v.info.message().c_str());
+  if (said == Verdict::not_verified) {
     const std::string cholmod = v.cholmod_row >= 0 ? "stopped at a zero pivot in row " + std::to_string(v.cholmod_row)
                                                    : "status " + std::to_string(v.cholmod_status);
     std::printf("NOT VERIFIED: %s; CHOLMOD %s\n", v.info.usable() ? "ours factored" : "ours failed (above)",
                 v.cholmod_factored() ? "factored" : cholmod.c_str());
-  } else if (said == "cannot verify") {
+  } else if (said == Verdict::cannot_verify) {
     std::printf("CANNOT VERIFY: the tolerance for L, D and x is %.1e (condition estimate %.2e), so no digit is "
                 "checked\n", t, v.condition_estimate);
   } else {
@@ -50,10 +53,31 @@ void print(const Problem& p, const Verification& v) {
 
 }  // namespace
 
-const char* verdict(const Verification& v) {
-  if (!v.info.usable() || !v.cholmod_factored()) return "not verified";
-  if (!v.verifiable) return "cannot verify";
-  return v.ok ? "yes" : "no";
+Verdict verdict(const Verification& v) {
+  if (!v.info.usable() || !v.cholmod_factored()) return Verdict::not_verified;
+  if (!v.verifiable) return Verdict::cannot_verify;
+  return v.ok ? Verdict::agree : Verdict::disagree;
+}
+
+const char* to_string(Verdict v) {
+  switch (v) {
+    case Verdict::agree: return "yes";
+    case Verdict::disagree: return "no";
+    case Verdict::not_verified: return "not verified";
+    case Verdict::cannot_verify: return "cannot verify";
+  }
+  return "";
+}
+
+std::string not_agreeing(const std::vector<std::pair<std::string, Verification>>& rows) {
+  std::string said;
+  for (auto [kind, words] : {std::pair{Verdict::disagree, "disagree"},
+                             {Verdict::not_verified, "not verified (a solver refused the matrix)"},
+                             {Verdict::cannot_verify, "cannot verify (the tolerance checks no digit)"}}) {
+    const auto count = std::count_if(rows.begin(), rows.end(), [&](const auto& r) { return verdict(r.second) == kind; });
+    if (count > 0) said += (said.empty() ? "" : ", ") + std::to_string(count) + " " + words;
+  }
+  return said;
 }
 
 void print_verification_table(std::FILE* out, const std::vector<std::pair<std::string, Verification>>& rows,
@@ -72,13 +96,13 @@ void print_verification_table(std::FILE* out, const std::vector<std::pair<std::s
   }
   for (const auto& [name, v] : rows) {
     // anything but yes stands out: bold in Markdown, capitals in text
-    std::string agree = verdict(v);
-    if (agree != "yes") {
+    std::string agree = to_string(verdict(v));
+    if (verdict(v) != Verdict::agree) {
       if (markdown) agree = "**" + agree + "**";
       else std::transform(agree.begin(), agree.end(), agree.begin(), [](unsigned char c) { return std::toupper(c); });
     }
     // a refused matrix has nothing measured: "-", not the NaNs left in its fields
-    const bool measured = std::string(verdict(v)) != "not verified";
+    const bool measured = verdict(v) != Verdict::not_verified;
     auto number = [&](double x, const char* format) {
       char text[32] = "-";
       if (measured) std::snprintf(text, sizeof text, format, x);

@@ -53,7 +53,9 @@ std::vector<std::string> parse_ordering_list(std::string_view list) {
   // every item, the empty ones too: "natural," had been read as "natural" and ",natural" refused
   for (size_t start = 0;;) {
     const size_t comma = list.find(',', start);
-    names.emplace_back(find_ordering(list.substr(start, comma - start)).name);
+    const std::string_view name = list.substr(start, comma - start);
+    if (name.empty()) throw InputError("an empty name in the ordering list '" + std::string(list) + "'");
+    names.emplace_back(find_ordering(name).name);
     if (comma == std::string_view::npos) return names;
     start = comma + 1;
   }

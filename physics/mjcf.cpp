@@ -497,25 +497,23 @@ std::string read_mjcf_text(const std::string& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return {};  // MuJoCo names what is missing
   std::string text;
-  try {
-    std::array<char, 1 << 16> chunk;
-    while (in.read(chunk.data(), chunk.size()) || in.gcount() > 0) {
-      const bool first = text.empty();
-      text.append(chunk.data(), static_cast<size_t>(in.gcount()));
-      if (first) {
-        // XML starts with '<' after blanks (and a UTF-8 byte order mark)
-        size_t at = text.starts_with("\xEF\xBB\xBF") ? 3 : 0;
-        while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at]))) ++at;
-        if (at == text.size() || text[at] != '<')
-          throw InputError(printable(file) + ": not an MJCF (XML) file: it does not start with '<'");
-      }
-      if (text.size() > kMaxMjcfBytes)
-        throw InputError(printable(file) + ": more than " + std::to_string(kMaxMjcfBytes >> 20) +
-                         " MiB: not an MJCF model (those are kilobytes)");
+  std::array<char, 1 << 16> chunk;
+  while (in.read(chunk.data(), chunk.size()) || in.gcount() > 0) {
+    const bool first = text.empty();
+    text.append(chunk.data(), static_cast<size_t>(in.gcount()));
+    if (first) {
+      // XML starts with '<' after blanks (and a UTF-8 byte order mark)
+      size_t at = text.starts_with("\xEF\xBB\xBF") ? 3 : 0;
+      while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at]))) ++at;
+      if (at == text.size() || text[at] != '<')
+        throw InputError(printable(file) + ": not an MJCF (XML) file: it does not start with '<'");
     }
-  } catch (const std::ios_base::failure& e) {
-    throw InputError(printable(file) + ": cannot read: " + printable(e.what(), 80));
+    if (text.size() > kMaxMjcfBytes)
+      throw InputError(printable(file) + ": more than " + std::to_string(kMaxMjcfBytes >> 20) +
+                       " MiB: not an MJCF model (those are kilobytes)");
   }
+  // (the stream catches its buffer's read error and sets badbit: /proc/self/mem named m.xml)
+  if (in.bad()) throw InputError(printable(file) + ": cannot read: read error");
   return text;
 }
 

@@ -25,14 +25,30 @@ Mechanism load_mechanism(py::handle scene) {
     // JSON has no NaN or infinity: Python's dumps would write NaN, which nlohmann's parser
     // refused with its own parse_error (a RuntimeError). What dumps cannot write (a NaN, a value
     // of no JSON type) is bad input, in one line.
+    // NumPy scalars (np.float64 is a float, np.int64 is not) are written as the numbers they hold.
+    const py::cpp_function plain([](py::handle value) -> py::object {
+      if (py::hasattr(value, "item")) return value.attr("item")();
+      throw py::type_error("a " + std::string(py::str(py::type::handle_of(value).attr("__name__"))) +
+                           " is not a JSON value");
+    });
     std::string text;
     try {
-      text = py::module_::import("json").attr("dumps")(scene, py::arg("allow_nan") = false).cast<std::string>();
+      text = py::module_::import("json")
+                 .attr("dumps")(scene, py::arg("allow_nan") = false, py::arg("default") = plain)
+                 .cast<std::string>();
     } catch (py::error_already_set& e) {
-      throw InputError("<dict>: not a scene in JSON terms (" + printable(e.what(), 120) +
-                       "; numbers must be finite)");
+      // (e.what() carries the traceback: the exception's own message only)
+      const bool not_finite = e.matches(PyExc_ValueError);
+      throw InputError("<dict>: not a scene in JSON terms: " + printable(std::string(py::str(e.value())), 120) +
+                       (not_finite ? " (numbers must be finite)" : ""));
     }
-    return parse_scene(nlohmann::json::parse(text), "<dict>");
+    nlohmann::json j;
+    try {
+      j = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::exception& e) {  // an integer of 400 digits, a lone surrogate
+      throw InputError("<dict>: not a scene in JSON terms: " + printable(e.what(), 120));
+    }
+    return parse_scene(j, "<dict>");
   }
   if (!py::isinstance<py::str>(scene) && !py::hasattr(scene, "__fspath__"))
     throw InputError("scene must be a scene file, an MJCF file, a built-in scene's name or a dict");

@@ -94,7 +94,7 @@ class LineReader {
 };
 
 // The banner is some 50 bytes; a first line not ended within the first chunk is not one.
-constexpr size_t kMaxBannerLength = LineReader::kChunk;
+constexpr size_t kMaxBannerLength = LineReader::kChunk - 1;
 // A line of an entry is under 100 bytes even written with "%.17g" or padded by Fortran; a
 // megabyte is for comments. Past it the file is binary or broken (/dev/zero after a good banner).
 constexpr size_t kMaxLineLength = size_t{1} << 20;

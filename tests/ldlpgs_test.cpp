@@ -239,6 +239,7 @@ TEST(LdlpgsVerify, SingularMatrixIsNotVerified) {
   EXPECT_EQ(r.err, "");  // CHOLMOD's own warning is its status, not a line on stderr
   EXPECT_NE(r.out.find("NOT VERIFIED: ours failed (above); CHOLMOD stopped at a zero pivot in row 1"), std::string::npos)
       << r.out;
+  EXPECT_EQ(r.out.find("nan"), std::string::npos) << "differences of nothing compared: " << r.out;
   const Result json = run("verify " + f + " --json");
   EXPECT_EQ(json.code, 1);
   const nlohmann::json j = nlohmann::json::parse(json.out);
@@ -806,7 +807,8 @@ TEST(LdlpgsReport, ARefusedMatrixIsNotVerified) {
   std::stringstream ss;
   ss << in.rdbuf();
   EXPECT_NE(ss.str().find("| singular.mtx | best | - | - | - | - | - | - | - | **not verified** |"), std::string::npos);
-  EXPECT_NE(ss.str().find("1 refused by a solver, so not verified"), std::string::npos);
+  EXPECT_NE(ss.str().find("problems agree within max(1e-10, eps cond_1); the largest relative difference of L, D or x is "), std::string::npos);
+  EXPECT_NE(ss.str().find("; 1 not verified (a solver refused the matrix) (`"), std::string::npos);
 }
 
 // Number options: NaN, infinities and values out of range are refused in one short line naming
@@ -865,6 +867,11 @@ TEST(LdlpgsBadInput, ExportWithoutEqualityConstraints) {
   const std::string scene = temp_file("no-constraints.json", R"({"name": "empty", "bodies": [], "constraints": []})");
   expect_input_error("export " + scene + " --matrix-file " + temp_path("e.mtx") + " --blocks-file " + temp_path("e.blocks"),
                      {"no equality constraints"});
+}
+
+// Standard output on a full disk: found only when flushed at the end, and had been exit 0.
+TEST(LdlpgsBadInput, StandardOutputOnAFullDevice) {
+  expect_input_error("order chain:10 --json >/dev/full", {"cannot write standard output"});
 }
 
 TEST(LdlpgsBadInput, ReportEmptyOutDir) {

@@ -21,6 +21,7 @@
 #include "ldlpgs/physics/step.h"
 #include "ldlpgs/sparse/error.h"
 #include "tests/mechanism_compare.h"
+#include "tests/bytes_read.h"
 #include "tests/temp_files.h"
 
 namespace ldlpgs {
@@ -628,22 +629,7 @@ TEST(SceneBadInput, BadFixturesNameTheirFileAndEntry) {
   }
 }
 
-// The bytes the process reads (Linux's /proc/self/io rchar) while fn runs; -1 if unknown.
-int64_t bytes_read_by(const std::function<void()>& fn) {
-  auto rchar = []() -> int64_t {
-    std::ifstream io("/proc/self/io");
-    std::string key;
-    int64_t value;
-    while (io >> key >> value) {
-      if (key == "rchar:") return value;
-    }
-    return -1;
-  };
-  const int64_t before = rchar();
-  fn();
-  const int64_t after = rchar();
-  return before < 0 || after < 0 ? -1 : after - before;
-}
+using ::testing::bytes_read_by;
 
 // The whole file was read before parsing: a scene that is /dev/zero never failed, a 2 GB file of
 // NUL bytes took 30 s and 4.2 GB. Now the parser stops at the first byte that cannot be JSON,

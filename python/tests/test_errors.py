@@ -147,13 +147,22 @@ def test_factor_misuse():
         f.factorize(A, regularization=-1)
 
 
-@pytest.mark.parametrize("mass", [float("nan"), float("inf"), np.int64(3)])
+@pytest.mark.parametrize("mass", [float("nan"), float("inf"), 10**400, object(), "a\ud800"])
 def test_scene_dict_that_is_not_json(mass):
-    # NaN and inf (JSON has none), and a value of no JSON type: ldlpgs.InputError, not the JSON
-    # parser's RuntimeError
+    # NaN and inf (JSON has none), an integer no double holds, a value of no JSON type, a lone
+    # surrogate: ldlpgs.InputError in one line, not the JSON parser's RuntimeError or a traceback
     scene = {"name": "s", "bodies": [{"name": "a", "mass": mass, "inertia": [1, 1, 1]}], "constraints": []}
-    with pytest.raises(ldlpgs.InputError, match="<dict>: not a scene in JSON terms"):
+    with pytest.raises(ldlpgs.InputError, match="<dict>: not a scene in JSON terms") as e:
         ldlpgs.Simulation(scene)
+    assert "\n" not in str(e.value) and "Traceback" not in str(e.value) and "At:" not in str(e.value)
+
+
+def test_scene_dict_numpy_scalars():
+    # np.int64 is no JSON type, but is the number it holds
+    scene = {"name": "s", "constraints": [],
+             "bodies": [{"name": "a", "mass": np.int64(2), "inertia": [1.0, 1.0, 1.0], "position": [0, 0, 0],
+                         "orientation": [1, 0, 0, 0]}]}
+    assert ldlpgs.Simulation(scene).body_names == ["a"]
 
 
 def test_simulation_errors():
