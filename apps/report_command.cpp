@@ -173,8 +173,9 @@ std::string key_findings(const std::string& out_dir, const std::vector<std::pair
   int agree = 0, verified = 0;
   double worst = 0;
   for (const auto& [name, v] : checks) {
-    agree += verdict(v) == Verdict::agree;
-    if (verdict(v) != Verdict::agree && verdict(v) != Verdict::disagree) continue;  // nothing measured
+    const Verdict said = verdict(v);
+    agree += said == Verdict::agree;
+    if (said != Verdict::agree && said != Verdict::disagree) continue;  // nothing measured
     ++verified;
     worst = std::max({worst, v.L_rel_diff, v.D_rel_diff, v.x_rel_diff});
   }

@@ -96,13 +96,14 @@ void print_verification_table(std::FILE* out, const std::vector<std::pair<std::s
   }
   for (const auto& [name, v] : rows) {
     // anything but yes stands out: bold in Markdown, capitals in text
-    std::string agree = to_string(verdict(v));
-    if (verdict(v) != Verdict::agree) {
+    const Verdict said = verdict(v);
+    std::string agree = to_string(said);
+    if (said != Verdict::agree) {
       if (markdown) agree = "**" + agree + "**";
       else std::transform(agree.begin(), agree.end(), agree.begin(), [](unsigned char c) { return std::toupper(c); });
     }
     // a refused matrix has nothing measured: "-", not the NaNs left in its fields
-    const bool measured = verdict(v) != Verdict::not_verified;
+    const bool measured = said != Verdict::not_verified;
     auto number = [&](double x, const char* format) {
       char text[32] = "-";
       if (measured) std::snprintf(text, sizeof text, format, x);
