@@ -3,9 +3,12 @@
 // joints are constraints between bodies). Velocities are in the world frame; the inertia is
 // given by its principal moments in the body frame.
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+
+#include "ldlpgs/physics/shape.h"
 
 namespace ldlpgs {
 
@@ -22,6 +25,7 @@ struct RigidBody {
   // "torque"): a force through the centre of mass (N) and a torque (N m), world frame.
   Eigen::Vector3d applied_force = Eigen::Vector3d::Zero();
   Eigen::Vector3d applied_torque = Eigen::Vector3d::Zero();
+  std::vector<Shape> shapes;  // collision geometry (physics/shape.h); none: the body touches nothing
 
   // World-frame inverse inertia R diag(1/I) R^T (zero for a static body).
   Eigen::Matrix3d inverse_inertia_world() const;

@@ -48,6 +48,9 @@ struct Constraint {
   Eigen::Matrix3d frame_a = Eigen::Matrix3d::Identity(), frame_b = Eigen::Matrix3d::Identity();
   double length = 0;             // rod, rope (m)
   double min = 0, max = 0;       // limits: radians (angular_limit) or metres (positional_limit)
+  // The two bodies' shapes touch each other (Box2D's collideConnected); by default bodies joined
+  // by a constraint do not collide.
+  bool collide = false;
 };
 
 // Rows of one constraint at the current pose. For an inequality the row is the nearer side of
