@@ -16,7 +16,7 @@ shift || true
 
 packages=(cmake g++ make libsuitesparse-dev libmetis-dev libeigen3-dev libgtest-dev
           libbenchmark-dev nlohmann-json3-dev libcli11-dev pkg-config
-          libmujoco-dev libqhull-dev libmujoco-samples libode-dev libbullet-dev
+          libmujoco-dev libqhull-dev libmujoco-samples libode-dev libbullet-dev libccd-dev
           pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib
           libopenblas0-serial)
 # (pybind11 and python3-*: the Python module, python/, its pytest suite and the example script
@@ -58,7 +58,7 @@ fuzz_targets=(matrix_market partition scene factor)
 
 fuzz() {
   # Only what the libraries need: the fuzz build has no program, tests, peers, MuJoCo or Python.
-  install_missing cmake make clang libclang-rt-14-dev libsuitesparse-dev libmetis-dev libeigen3-dev nlohmann-json3-dev
+  install_missing cmake make clang libclang-rt-14-dev libsuitesparse-dev libmetis-dev libeigen3-dev nlohmann-json3-dev pkg-config libode-dev
   local dir=${BUILD_DIR:-build-fuzz} seconds=${1:-60} failed=0
   CC=clang CXX=clang++ cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLDLPGS_BUILD_FUZZ=ON \
     -DLDLPGS_BUILD_CLI=OFF -DLDLPGS_BUILD_TESTS=OFF -DLDLPGS_BUILD_BENCH=OFF -DLDLPGS_BUILD_PEERS=OFF \

@@ -32,7 +32,9 @@ Mechanism load_mechanism(const std::string& spec) {
 namespace {
 
 struct StepArgs {
-  std::string scene, solver = "ldl-pgs", ordering = "best", trace;
+  std::string scene, solver = "ldl-pgs", ordering = "best", trace, contacts_file;
+  std::string friction_cone = "disk";
+  int factor_contacts_after = ContactOptions{}.factor_after;
   std::string schedule = to_string(SolverOptions{}.schedule);
   int iterations = 10, steps = 200, post_stabilize = StepOptions{}.post_stabilize;
   bool post_stabilize_refactor = false, curvature_target = false;
@@ -66,11 +68,27 @@ StepOptions step_options(const StepArgs& a) {
   o.post_stabilize = a.post_stabilize;
   o.post_stabilize_refactor = a.post_stabilize_refactor;
   o.curvature_target = a.curvature_target;
+  if (a.friction_cone != "disk" && a.friction_cone != "pyramid")
+    throw InputError("--friction-cone " + a.friction_cone + ": unknown (known: disk pyramid)");
+  o.contacts.friction_pyramid = a.friction_cone == "pyramid";
+  o.contacts.factor_after = a.factor_contacts_after;
   o.diagnostics = true;
   return o;
 }
 
 // The scene's own bodies, each as its shards move (physics/shatter.h: whole_body).
+// The last step's contact points, one CSV row each.
+void write_contact_rows(std::ofstream& out, int step, const Simulation& sim) {
+  const Mechanism& m = sim.mechanism();
+  for (const Contact& c : sim.contacts()) {
+    const ContactPoint& p = c.point;
+    out << step << ',' << sim.time() << ',' << m.bodies[c.body_a].name << ',' << m.bodies[c.body_b].name << ','
+        << p.position.x() << ',' << p.position.y() << ',' << p.position.z() << ',' << p.normal.x() << ','
+        << p.normal.y() << ',' << p.normal.z() << ',' << p.depth << ',' << c.impulse[0] << ',' << c.impulse[1] << ','
+        << c.impulse[2] << '\n';
+  }
+}
+
 void write_trace_rows(std::ofstream& out, int step, const Simulation& sim, const Mechanism& original,
                       const ShatterResult& shattered) {
   for (size_t i = 0; i < original.bodies.size(); ++i) {
@@ -98,6 +116,13 @@ int run_step(const StepArgs& a) {
   if (options.solver.kind == SolverKind::direct && m.first_inequality() >= 0)
     throw InputError(a.scene + ": solver direct solves equality constraints only, and the scene has a " +
                      to_string(m.constraints[m.first_inequality()].type) + " (use ldl-pgs)");
+  std::ofstream contacts_out;
+  if (!a.contacts_file.empty()) {
+    contacts_out.open(a.contacts_file);
+    if (!contacts_out) throw InputError(a.contacts_file + ": cannot write the contacts file");
+    contacts_out << "step,time,body_a,body_b,x,y,z,nx,ny,nz,depth_m,impulse_normal,impulse_t1,impulse_t2\n";
+    contacts_out.precision(17);
+  }
   std::ofstream trace;
   if (!a.trace.empty()) {
     trace.open(a.trace);
@@ -119,6 +144,7 @@ int run_step(const StepArgs& a) {
   Simulation sim(std::move(m), options);
   if (trace.is_open()) write_trace_rows(trace, 0, sim, original, shattered);
   std::vector<double> solve_us, step_us, post_us;
+  std::vector<double> contact_us;
   StepReport worst;  // maxima over the steps
   int64_t post_iterations = 0;
   int failed = 0;
@@ -130,6 +156,10 @@ int run_step(const StepArgs& a) {
     step_us.push_back(r.step_us);
     post_us.push_back(r.post_stabilize_us);
     post_iterations += r.post_stabilize_iterations;
+    contact_us.push_back(r.contact_us);
+    worst.contacts = std::max(worst.contacts, r.contacts);
+    worst.penetration_max_m = std::max(worst.penetration_max_m, r.penetration_max_m);
+    if (contacts_out.is_open()) write_contact_rows(contacts_out, s, sim);
     worst.solve_us = std::max(worst.solve_us, r.solve_us);
     worst.error.position_max = std::max(worst.error.position_max, r.error.position_max);
     worst.error.angular_max = std::max(worst.error.angular_max, r.error.angular_max);
@@ -148,6 +178,7 @@ int run_step(const StepArgs& a) {
     if (trace.is_open()) write_trace_rows(trace, s, sim, original, shattered);
   }
   if (trace.is_open()) finish_writing(trace, a.trace, "the trace file");
+  if (contacts_out.is_open()) finish_writing(contacts_out, a.contacts_file, "the contacts file");
   const Mechanism& end = sim.mechanism();
   const double energy_final = total_energy(end);
   const bool finite = std::isfinite(energy_final) && std::isfinite(worst.error.position_max);
@@ -182,6 +213,10 @@ int run_step(const StepArgs& a) {
                         {"solve_us_max", worst.solve_us},
                         {"post_stabilize_us", median(post_us)},
                         {"step_us", median(step_us)},
+                        {"contact_us", median(contact_us)},
+                        {"contacts_max", worst.contacts},
+                        {"penetration_max_m", worst.penetration_max_m},
+                        {"symbolic_analyses", sim.solver().symbolic_stats().analyses},
                         {"position_error_max_m", worst.error.position_max},
                         {"position_error_rms_max_m", worst.error.position_rms},
                         {"angular_error_max_rad", worst.error.angular_max},
@@ -210,6 +245,11 @@ int run_step(const StepArgs& a) {
                 median(post_us), sim.options().post_stabilize, a.post_stabilize_refactor ? ", refactored" : "",
                 static_cast<long long>(post_iterations), sim.post_stabilize_skipped());
     std::printf("whole step            median %10.1f us\n", median(step_us));
+    if (worst.contacts)
+      std::printf("contacts              at most %d points, deepest penetration %.3e m, detection median %.1f us, "
+                  "%lld symbolic phases\n",
+                  worst.contacts, worst.penetration_max_m, median(contact_us),
+                  static_cast<long long>(sim.solver().symbolic_stats().analyses));
     std::printf("position error        max %12.3e m     (worst step rms %.3e m)\n", worst.error.position_max,
                 worst.error.position_rms);
     std::printf("angular error         max %12.3e rad   (worst step rms %.3e rad)\n", worst.error.angular_max,
@@ -286,6 +326,15 @@ Command add_step_command(CLI::App& app) {
                 "Equality rows' velocity target includes the constraints' curvature along the motion (energy-consistent)");
   cmd->add_option("--trace-file", a->trace, "Write per step and body: step,time,body,x,y,z,qw,qx,qy,qz,fx,fy,fz,tx,ty,tz (CSV; f, t: the scene's constant load)");
   add_alias(cmd, "--trace", &a->trace);
+  cmd->add_option("--contacts-file", a->contacts_file,
+                  "Write per step and contact point: step,time,body_a,body_b,x,y,z,nx,ny,nz,depth_m,impulse_normal,"
+                  "impulse_t1,impulse_t2 (CSV; the normal from body a into b, impulses in N s)");
+  cmd->add_option("--friction-cone", a->friction_cone, "Friction bound of contacts: disk (|lambda_t| <= mu lambda_n) or pyramid (per row)")
+      ->capture_default_str();
+  cmd->add_option("--factor-contacts-after", a->factor_contacts_after,
+                  "ldl-pgs: contacts pushing this many steps in a row join the LDL^T with their normal rows (0: never, the talk's schedule)")
+      ->capture_default_str()
+      ->check(integer_in(0, 1000000));
   add_json_flag(cmd, &a->json);
   add_shatter_options(cmd, &a->shatter);
   return [a] { return run_step(*a); };

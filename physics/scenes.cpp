@@ -547,6 +547,99 @@ Mechanism mechanism_50() {
 }
 
 // "<digits>" in 1..100000, no sign, no leading zero.
+// --- Scenes with contacts: y up, a ground plane at y = 0, 1/60 s steps, friction 0.6 ---------
+
+constexpr double kContactFriction = 0.6;
+
+int add_ground(Mechanism* m) {
+  RigidBody ground = static_body("ground", Vector3d::Zero());
+  Shape plane;
+  plane.type = ShapeType::plane;
+  plane.normal = kY;
+  plane.friction = kContactFriction;
+  ground.shapes.push_back(plane);
+  return m->add_body(ground);
+}
+
+Shape box_shape(const Vector3d& half_extents) {
+  Shape s;
+  s.type = ShapeType::box;
+  s.half_extents = half_extents;
+  s.friction = kContactFriction;
+  return s;
+}
+
+// A unit cube (half extents 0.5) of `mass` resting at centre height y, 1 mm into what is below.
+int add_cube(Mechanism* m, const std::string& name, double mass, const Vector3d& centre) {
+  RigidBody b = dynamic_body(name, mass, box_inertia(mass, 1, 1, 1), centre);
+  b.shapes.push_back(box_shape(Vector3d::Constant(0.5)));
+  return m->add_body(b);
+}
+
+// A 1 kg cube on the ground carrying a cube `ratio` times heavier: what PGS lets sink.
+Mechanism box_stack(const std::string& name, double ratio) {
+  Mechanism m;
+  m.name = name;
+  m.timestep = 1.0 / 60;
+  add_ground(&m);
+  add_cube(&m, "light", 1, Vector3d(0, 0.499, 0));
+  add_cube(&m, "heavy", ratio, Vector3d(0, 1.498, 0));
+  return m;
+}
+
+// `layers` layers of 1 kg unit cubes, layer i holding layers - i cubes side by side (1 mm gaps),
+// each layer centred on the one below: 55 cubes for 10 layers.
+Mechanism pyramid(const std::string& name, int layers) {
+  Mechanism m;
+  m.name = name;
+  m.timestep = 1.0 / 60;
+  m.bodies.reserve(1 + layers * (layers + 1) / 2);
+  add_ground(&m);
+  for (int i = 0; i < layers; ++i)
+    for (int j = 0; j < layers - i; ++j) {
+      const double x = (j - 0.5 * (layers - i - 1)) * 1.001;
+      add_cube(&m, numbered("box", static_cast<int>(m.bodies.size()) - 1), 1, Vector3d(x, 0.499 + 0.999 * i, 0));
+    }
+  return m;
+}
+
+// n capsule links (radius 5 cm, 0.5 m between joints, 1 kg) held horizontal from a ball joint
+// 2 m above the ground, a ball of radius 0.25 m and `ratio` times a link's mass on the free end;
+// released, it swings down onto the ground and lies on it.
+Mechanism ball_chain(const std::string& name, int n, double ratio) {
+  const double l = 0.5, r = 0.05, ball_radius = 0.25, height = 2;
+  Mechanism m;
+  m.name = name;
+  m.timestep = 1.0 / 60;
+  m.bodies.reserve(n + 3);
+  add_ground(&m);
+  const int pivot = m.add_body(static_body("pivot", Vector3d(0, height, 0)));
+  Shape capsule;
+  capsule.type = ShapeType::capsule;
+  capsule.radius = r;
+  capsule.half_length = l / 2 - r;
+  capsule.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, kY));  // the capsule's z along the link's x
+  capsule.friction = kContactFriction;
+  int previous = pivot;
+  for (int i = 0; i < n; ++i) {
+    RigidBody link = dynamic_body(numbered("link", i), 1, cylinder_inertia(1, r, l, 0), Vector3d(l * (i + 0.5), height, 0));
+    link.shapes.push_back(capsule);
+    const int k = m.add_body(link);
+    ball(&m, previous, k, Vector3d(l * i, height, 0));
+    previous = k;
+  }
+  const double mass = ratio;
+  RigidBody bob = dynamic_body("ball", mass, sphere_inertia(mass, ball_radius), Vector3d(l * n + ball_radius, height, 0));
+  Shape sphere;
+  sphere.type = ShapeType::sphere;
+  sphere.radius = ball_radius;
+  sphere.friction = kContactFriction;
+  bob.shapes.push_back(sphere);
+  const int k = m.add_body(bob);
+  ball(&m, previous, k, Vector3d(l * n, height, 0));
+  return m;
+}
+
 bool parse_count(std::string_view s, int* n) {
   if (s.empty() || s.size() > 6 || s[0] == '0') return false;
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), *n);
@@ -564,11 +657,13 @@ bool parse_ratio(std::string_view s, double* r) {
 
 std::vector<std::string> builtin_scene_names() {
   return {"pendulum", "chain-10", "heavy-chain-10-1000", "ragdoll", "four-bar",
-          "rope-bridge", "tracked-vehicle", "multi-wheeled-vehicle", "mechanism-50", "driven-crank"};
+          "rope-bridge", "tracked-vehicle", "multi-wheeled-vehicle", "mechanism-50", "driven-crank",
+          "box-stack-1000", "pyramid-10", "ball-chain-20-1000"};
 }
 
 bool builtin_scene(std::string_view name, Mechanism* mechanism) {
-  constexpr std::string_view kChain = "chain-", kHeavy = "heavy-chain-";
+  constexpr std::string_view kChain = "chain-", kHeavy = "heavy-chain-", kStack = "box-stack-", kPyramid = "pyramid-",
+                             kBallChain = "ball-chain-";
   if (name == "pendulum") {
     *mechanism = pendulum();
   } else if (name == "ragdoll") {
@@ -585,6 +680,23 @@ bool builtin_scene(std::string_view name, Mechanism* mechanism) {
     *mechanism = mechanism_50();
   } else if (name == "driven-crank") {
     *mechanism = driven_crank();
+  } else if (name.starts_with(kStack)) {
+    double ratio = 0;
+    if (!parse_ratio(name.substr(kStack.size()), &ratio)) return false;
+    *mechanism = box_stack(std::string(name), ratio);
+  } else if (name.starts_with(kPyramid)) {
+    int n = 0;
+    if (!parse_count(name.substr(kPyramid.size()), &n) || n > 100) return false;  // (100 layers: 5050 cubes)
+    *mechanism = pyramid(std::string(name), n);
+  } else if (name.starts_with(kBallChain)) {
+    const std::string_view rest = name.substr(kBallChain.size());
+    const size_t dash = rest.find('-');
+    int n = 0;
+    double ratio = 0;
+    if (dash == std::string_view::npos || !parse_count(rest.substr(0, dash), &n) ||
+        !parse_ratio(rest.substr(dash + 1), &ratio))
+      return false;
+    *mechanism = ball_chain(std::string(name), n, ratio);
   } else if (name.starts_with(kChain)) {
     int n = 0;
     if (!parse_count(name.substr(kChain.size()), &n)) return false;

@@ -13,6 +13,11 @@
 //   mechanism-50             a Strandbeest on a stand: 50 joints, the talk's mechanism in size
 //   driven-crank             a slider-crank from rest, its crank driven by a constant torque
 //                            (gravity off: the torque's work is the kinetic energy)
+// With contacts (a ground plane, 1/60 s steps, friction 0.6):
+//   box-stack-R              a unit cube of R kg on one of 1 kg on the ground (default 1000)
+//   pyramid-L                L layers of unit cubes, L down to 1 (default 10: 55 cubes)
+//   ball-chain-N-R           N capsule links held horizontal from a pivot, a ball of R times a
+//                            link's mass on the end, released onto the ground (default 20-1000)
 #include <string>
 #include <string_view>
 #include <vector>

@@ -2,6 +2,7 @@
 #include "ldlpgs/physics/step.h"
 
 #include <cassert>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -227,17 +228,28 @@ Simulation::Simulation(Mechanism mechanism, const StepOptions& options)
       evaluated_(mechanism_.constraints.size()),
       load_(6 * mechanism_.bodies.size(), 0.0),
       saved_position_(mechanism_.bodies.size()),
-      saved_orientation_(mechanism_.bodies.size()) {
+      saved_orientation_(mechanism_.bodies.size()),
+      joint_blocks_(static_cast<int>(mechanism_.constraints.size())) {
+  if (has_shapes(mechanism_)) {
+    if (options.solver.kind == SolverKind::direct)
+      throw InputError("the direct solver takes no contacts and bodies have shapes (use ldl-pgs)");
+    collision_ = std::make_unique<CollisionWorld>(mechanism_);
+  }
   options_.post_stabilize = post_stabilize_iterations(options);
   if (options_.post_stabilize < 0 || options.post_stabilize_sweeps < 1 || !(options.post_stabilize_tolerance >= 0))
     throw InputError("post-stabilization: iterations >= 0, sweeps >= 1 and a tolerance >= 0 are required");
-  if (options_.post_stabilize > 0 && (!solver_.symbolic() || options.post_stabilize_refactor)) {
+  make_projector();
+}
+
+void Simulation::make_projector() {
+  if (options_.post_stabilize > 0 && (!solver_.symbolic() || options_.post_stabilize_refactor)) {
     // pgs and block-gs have no factor: the projection gets one of its own, the hybrid on
-    // inequality rows, exact otherwise; so does a refactoring projection, which calls solve()
-    // and so would run the velocity level's iterations, not post_stabilize_sweeps.
-    SolverOptions o = options.solver;
-    o.kind = mechanism_.first_inequality() >= 0 ? SolverKind::ldl_pgs : SolverKind::direct;
-    o.iterations = options.post_stabilize_sweeps;
+    // inequality rows (contacts among them), exact otherwise; so does a refactoring projection,
+    // which calls solve() and so would run the velocity level's iterations, not
+    // post_stabilize_sweeps.
+    SolverOptions o = options_.solver;
+    o.kind = mechanism_.first_inequality() >= 0 || collision_ ? SolverKind::ldl_pgs : SolverKind::direct;
+    o.iterations = options_.post_stabilize_sweeps;
     o.schedule = HybridSchedule::inequality_pgs;
     projector_ = std::make_unique<Solver>(system_, o);
   }
@@ -269,6 +281,7 @@ void Simulation::velocity_system() {
   write_velocity_system(mechanism_, options_, column_, load_,
                         options_.curvature_target ? predicted_ : std::span<const double>(),
                         evaluated_valid_ ? evaluated_ : std::span<const ConstraintRows>(), v0_, &system_);
+  contact_rows(/*velocity=*/true, /*with_jacobian=*/true);
 }
 
 double Simulation::position_rhs(bool with_jacobian) {
@@ -292,6 +305,7 @@ double Simulation::position_rhs(bool with_jacobian) {
     }
   }
   evaluated_valid_ = true;
+  if (!contacts_.empty()) worst = std::max(worst, contact_rows(/*velocity=*/false, with_jacobian));
   return worst;
 }
 
@@ -336,6 +350,144 @@ bool Simulation::post_stabilize(StepReport* report) {
   return true;
 }
 
+// This step's contact points, matched with the last step's, as two blocks each past the
+// constraints' (normal: impulse >= 0; friction: bounded by the normal impulse), warm-started with
+// the matched impulses. A contact pushing for ContactOptions::factor_after steps in a row joins
+// ldl-pgs's LDL block with its normal row; those come first, so that a repeated set of factored
+// contacts is the same blocks and its symbolic phase is reused (solver.h).
+void Simulation::detect_contacts() {
+  const ContactOptions& o = options_.contacts;
+  collision_->detect(mechanism_, &points_);
+  std::swap(contacts_, previous_contacts_);
+  make_contacts(mechanism_, points_, previous_contacts_, o.match_distance, &contact_order_, &contacts_);
+  const bool factoring = options_.solver.kind == SolverKind::ldl_pgs && o.factor_after > 0;
+  for (Contact& c : contacts_) c.factored = factoring && c.pushing_steps >= o.factor_after;
+  // Factored contacts first, in the order of their bodies, so that the same set of touching
+  // pairs is the same blocks whatever order the detector found them in.
+  // (std::sort on a total order: stable_sort would allocate its buffer every step)
+  for (size_t i = 0; i < contacts_.size(); ++i) contacts_[i].point_index = static_cast<int>(i);
+  std::sort(contacts_.begin(), contacts_.end(), [](const Contact& x, const Contact& y) {
+    if (x.factored != y.factored) return x.factored;
+    if (x.factored && std::make_pair(x.body_a, x.body_b) != std::make_pair(y.body_a, y.body_b))
+      return std::make_pair(x.body_a, x.body_b) < std::make_pair(y.body_a, y.body_b);
+    return x.point_index < y.point_index;
+  });
+  system_.truncate(joint_blocks_);
+  for (const Contact& c : contacts_) {
+    const int normal = system_.add_block(1, column_[c.body_a], column_[c.body_b]);
+    system_.set_bounds(normal, 0, kUnbounded);
+    system_.blocks[normal].factored = c.factored;
+    const int friction = system_.add_block(2, column_[c.body_a], column_[c.body_b]);
+    system_.set_friction(friction, system_.blocks[normal].position, c.friction, o.friction_pyramid);
+  }
+  const size_t rows = system_.num_rows;
+  lambda_.resize(rows);
+  mu_.resize(rows);
+  predicted_.resize(rows);
+  for (size_t i = 0; i < contacts_.size(); ++i) {
+    const int first = system_.blocks[joint_blocks_ + 2 * i].position;
+    for (int r = 0; r < 3; ++r) lambda_[first + r] = contacts_[i].impulse[r];
+  }
+}
+
+// The contacts' rows at the current pose into system_: J (with_jacobian: the velocity level, or
+// a refactoring position level; otherwise the step's J_0 stays, as post_stabilize needs), and
+// the right-hand side. Velocity level: the normal row
+// asks J V1 >= target, target = the gap closed in one step when apart (speculative), else
+// baumgarte (depth - slop) / dt within max_correction_speed, and at least -e v_n when approaching
+// faster than the restitution threshold; friction rows ask J V1 = 0 within their bound.
+// Position level: (n . d + slop) >= 0 for the normal row; friction rows take no part (mu = 0).
+// Returns the largest violation n . d + slop < 0 (m).
+double Simulation::contact_rows(bool velocity, bool with_jacobian) {
+  const ContactOptions& o = options_.contacts;
+  const double dt = mechanism_.timestep;
+  double worst = 0;
+  for (size_t i = 0; i < contacts_.size(); ++i) {
+    Contact& con = contacts_[i];
+    const RigidBody &a = mechanism_.bodies[con.body_a], &b = mechanism_.bodies[con.body_b];
+    const ConstraintRows rows = evaluate(con, a, b);
+    const int kn = joint_blocks_ + 2 * static_cast<int>(i), kf = kn + 1;
+    const int ca = column_[con.body_a], cb = column_[con.body_b];
+    for (int r = 0; r < 3 && with_jacobian; ++r) {
+      const double* j = rows.jacobian.data() + 12 * r;
+      const int k = r == 0 ? kn : kf, row = r == 0 ? 0 : r - 1;
+      std::copy(j, j + 6, system_.cell_a(k) + 6 * row);
+      std::copy(j + 6, j + 12, system_.cell_b(k) + 6 * row);
+    }
+    const int in = system_.blocks[kn].position, if0 = system_.blocks[kf].position;
+    system_.blocks[kn].regularization = con.factored ? o.regularization : 0;
+    if (!velocity) {
+      system_.blocks[kf].friction = 0;
+      system_.rhs[in] = -(rows.c[0] + o.slop);
+      system_.rhs[if0] = system_.rhs[if0 + 1] = 0;
+      worst = std::max(worst, -(rows.c[0] + o.slop));
+      continue;
+    }
+    system_.blocks[kf].friction = con.friction;
+    // J V for the velocities before (now) and after the free motion (v0_)
+    const auto jv = [&](int r, const auto& velocity_of) {
+      const double* j = rows.jacobian.data() + 12 * r;
+      double s = 0;
+      for (int x = 0; x < 6; ++x) {
+        if (ca >= 0) s += j[x] * velocity_of(ca, x);
+        if (cb >= 0) s += j[6 + x] * velocity_of(cb, x);
+      }
+      return s;
+    };
+    const auto free_motion = [&](int c, int x) { return v0_[6 * c + x]; };
+    const auto current = [&](int c, int x) {
+      const RigidBody& body = mechanism_.bodies[c == ca ? con.body_a : con.body_b];
+      return x < 3 ? body.linear_velocity[x] : body.angular_velocity[x - 3];
+    };
+    const double separation = rows.c[0];
+    double target = 0;
+    if (con.factored) {
+      // In the LDL block the targets of a manifold's points must be consistent (in the range of
+      // J): J V = t is solved exactly, and a part of t outside the range (a clamp, a threshold)
+      // is divided by the compliance alone. The post-stabilization corrects the depth; without
+      // it, an affine Baumgarte term.
+      if (options_.post_stabilize == 0) target = -o.baumgarte * (separation + o.slop) / dt;
+    } else {
+      target = separation > 0 ? -separation / dt
+                              : std::min(o.baumgarte * std::max(0.0, -separation - o.slop) / dt, o.max_correction_speed);
+      const double approach = jv(0, current);
+      if (approach < -o.restitution_threshold) target = std::max(target, -con.restitution * approach);
+    }
+    system_.rhs[in] = target - jv(0, free_motion);
+    system_.rhs[if0] = -jv(1, free_motion);
+    system_.rhs[if0 + 1] = -jv(2, free_motion);
+  }
+  return worst;
+}
+
+void Simulation::keep_contact_impulses() {
+  for (size_t i = 0; i < contacts_.size(); ++i) {
+    Contact& c = contacts_[i];
+    const int first = system_.blocks[joint_blocks_ + 2 * i].position;
+    for (int r = 0; r < 3; ++r) c.impulse[r] = lambda_[first + r];
+    c.pushing_steps = c.impulse[0] > 0 ? c.pushing_steps + 1 : 0;
+  }
+}
+
+double Simulation::penetration_max() const {
+  double worst = 0;
+  for (const Contact& c : contacts_)
+    worst = std::max(worst, -evaluate(c, mechanism_.bodies[c.body_a], mechanism_.bodies[c.body_b]).c[0]);
+  return worst;
+}
+
+void Simulation::add_shape(int body, const Shape& shape) {
+  RigidBody& b = writable(body, "add_shape", false);
+  const std::string problem = shape_problem(shape, b.is_static);
+  if (!problem.empty()) throw InputError("add_shape: body " + std::to_string(body) + " (" + b.name + "): " + problem);
+  if (options_.solver.kind == SolverKind::direct)
+    throw InputError("add_shape: the direct solver takes no contacts (use ldl-pgs)");
+  b.shapes.push_back(shape);
+  if (shape.type == ShapeType::plane) b.shapes.back().normal.normalize();
+  collision_ = std::make_unique<CollisionWorld>(mechanism_);
+  make_projector();  // (an exact projector takes no contacts)
+}
+
 void Simulation::save_pose() {
   for (size_t b = 0; b < mechanism_.bodies.size(); ++b) {
     saved_position_[b] = mechanism_.bodies[b].position;
@@ -359,11 +511,17 @@ StepReport Simulation::step() {
   const double dt = m.timestep;
   StepReport report;
   const auto start = Clock::now();
+  if (collision_) {
+    detect_contacts();
+    report.contacts = static_cast<int>(contacts_.size());
+    report.contact_us = us(start, Clock::now());
+  }
   velocity_system();
   const auto solve_start = Clock::now();
   report.result = solver_.solve(system_, lambda_, dv_);
   const auto solve_end = Clock::now();
   report.solve_us = us(solve_start, solve_end);
+  keep_contact_impulses();
   if (options_.diagnostics) report.velocity_residual = velocity_residual(system_, lambda_, dv_);
   int c = 0;
   for (RigidBody& b : m.bodies) {
@@ -391,6 +549,7 @@ StepReport Simulation::step() {
     report.post_stabilize_us = us(solve_end, Clock::now());
   }
   time_ += dt;
+  report.penetration_max_m = penetration_max();
   report.step_us = us(start, Clock::now());
   if (options_.diagnostics) {
     report.error = constraint_error(m);

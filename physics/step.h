@@ -29,6 +29,8 @@
 #include <string>
 #include <vector>
 
+#include "ldlpgs/physics/collision.h"
+#include "ldlpgs/physics/contact.h"
 #include "ldlpgs/physics/mechanism.h"
 #include "ldlpgs/solver/solver.h"
 #include "ldlpgs/sparse/csc.h"
@@ -64,6 +66,8 @@ struct StepOptions {
   // Fill StepReport's error, velocity residual and energy (costs one more evaluation of every
   // constraint per step; the CLI asks, a library stepping for speed need not).
   bool diagnostics = false;
+  // Bodies' shapes that touch become contact rows (physics/contact.h).
+  ContactOptions contacts;
 };
 
 // Position errors over all constraint rows, at the current pose: equality rows |c|, inequality
@@ -89,6 +93,9 @@ struct StepReport {
   double solve_us = 0;            // the velocity solve alone (numeric phase: H, LDL^T, sweeps)
   double post_stabilize_us = 0;   // the position correction (evaluations, solves, moves)
   double step_us = 0;             // the whole step
+  double contact_us = 0;          // collision detection and the contacts' matching
+  int contacts = 0;               // contact points this step
+  double penetration_max_m = 0;   // the deepest penetration of this step's contact points, after it
   int post_stabilize_iterations = 0;  // done (0 when off, or skipped after a failed factorization)
   SolveResult result;             // a failed factorization is reported here (the PGS impulses are used)
   // With StepOptions::diagnostics (zero otherwise):
@@ -155,6 +162,11 @@ class Simulation {
   // The same force applied at a world point: adds the torque (point - centre) x force.
   void apply_force_at(int body, const Eigen::Vector3d& force, const Eigen::Vector3d& point);
   void set_gravity(const Eigen::Vector3d& gravity);  // m/s^2, finite
+  // A shape on a body (physics/shape.h; checked as scene files are), touching from the next step.
+  void add_shape(int body, const Shape& shape);
+  // The last step's contact points: where, the normal, the depth at detection, and the impulses
+  // the step applied (Contact::impulse: normal, two friction).
+  std::span<const Contact> contacts() const { return contacts_; }
   void set_timestep(double timestep);                // s, finite and > 0
 
  private:
@@ -164,6 +176,11 @@ class Simulation {
   bool post_stabilize(StepReport* report);  // false: a factorization failed
   void save_pose();
   void restore_pose();
+  void make_projector();                    // projector_, when the solver has no factor to reuse
+  void detect_contacts();                   // this step's contacts, their blocks and warm start
+  double contact_rows(bool velocity, bool with_jacobian);  // their rows at the current pose (velocity or position level)
+  void keep_contact_impulses();             // lambda into the contacts, for the next step
+  double penetration_max() const;
 
   Mechanism mechanism_;
   StepOptions options_;
@@ -184,6 +201,12 @@ class Simulation {
   double time_ = 0;
   int post_stabilize_skipped_ = 0;
   int64_t post_stabilize_rejected_ = 0;
+  // Contacts: system_'s blocks past the constraints', two per contact (normal, friction).
+  int joint_blocks_ = 0;
+  std::unique_ptr<CollisionWorld> collision_;  // null while no body has a shape
+  std::vector<ContactPoint> points_;           // detected this step
+  std::vector<Contact> contacts_, previous_contacts_;
+  std::vector<int> contact_order_;             // make_contacts' scratch
 };
 
 }  // namespace ldlpgs

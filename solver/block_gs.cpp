@@ -36,7 +36,7 @@ void block_gs_sweep(const System& system, const RowCache& rows, const BlockCache
   for (int k = 0; k < static_cast<int>(system.blocks.size()); ++k) {
     const RowBlock& b = system.blocks[k];
     if (!b.equality) {
-      for (int r = 0; r < b.size; ++r) pgs_row(system, rows, k, r, lambda, dv);
+      pgs_block(system, rows, k, lambda, dv);
       continue;
     }
     // residual R_k - J_k dV - eps diag(N_k) lambda_k

@@ -12,7 +12,7 @@ namespace ldlpgs {
 EqualityMatrix::EqualityMatrix(const System& structure) {
   std::vector<int> sizes;  // rows of each equality block (size equality blocks)
   for (int k = 0; k < static_cast<int>(structure.blocks.size()); ++k) {
-    if (!structure.blocks[k].equality) continue;
+    if (!structure.blocks[k].in_factor()) continue;
     system_block_.push_back(k);
     sizes.push_back(structure.blocks[k].size);
   }
@@ -47,7 +47,10 @@ EqualityMatrix::EqualityMatrix(const System& structure) {
   std::fill(h_.values.begin(), h_.values.end(), 0.0);
   for (int j = 0; j < h_.n; ++j) diagonal_.push_back(h_.col_ptr[j]);  // expand puts the diagonal first
   for (int k : system_block_)
-    for (int r = 0; r < structure.blocks[k].size; ++r) system_row_.push_back(structure.blocks[k].position + r);
+    for (int r = 0; r < structure.blocks[k].size; ++r) {
+      system_row_.push_back(structure.blocks[k].position + r);
+      system_block_of_row_.push_back(k);
+    }
   // Column j of block X holds X's rows j.. first, then each neighbour Y > X's rows, Y ascending:
   // below[a] = the rows before neighbour graph.adj[a]'s in X's columns, past X's own
   // (size 2 edges; only neighbours above X are used).
@@ -107,7 +110,8 @@ void EqualityMatrix::assemble(const System& system, const RowCache& rows, std::s
       }
     }
   }
-  for (int r = 0; r < h_.n; ++r) target[diagonal[r]] *= 1 + system.compliance[system_row_[r]];
+  for (int r = 0; r < h_.n; ++r)
+    target[diagonal[r]] *= 1 + system.compliance[system_row_[r]] + system.blocks[system_block_of_row_[r]].regularization;
 }
 
 void EqualityMatrix::remap(std::span<const int32_t> map, std::vector<int64_t>* index,

@@ -50,6 +50,7 @@ class EqualityMatrix {
   std::vector<int64_t> index_;     // position in h_.values of each product entry (rx, ry), row-major; -1: upper half
   std::vector<int64_t> diagonal_;  // position in h_.values of each diagonal entry (size h_.n)
   std::vector<int> system_row_;    // the System row of each row of H_0 (size h_.n)
+  std::vector<int> system_block_of_row_;  // and its System block (size h_.n)
 };
 
 }  // namespace ldlpgs

@@ -29,6 +29,9 @@ class LdlBlock {
   // dV = W J^T lambda (no warm start).
   void exact_solve(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv);
   const Symbolic& symbolic() const { return *symbolic_; }
+  // Whether this block's rows are exactly the factored blocks of `system` (RowBlock::in_factor:
+  // the same blocks, sizes and columns), so that its symbolic phase serves it.
+  bool serves(const System& system) const;
 
  private:
   EqualityMatrix h_;
@@ -36,6 +39,7 @@ class LdlBlock {
   std::unique_ptr<Numeric> numeric_;
   std::vector<double> work_;  // the block's residual, then its dlambda (size rows of H_0)
   std::vector<int64_t> packed_index_, packed_diagonal_;  // EqualityMatrix's positions in the factor's values
+  std::vector<int> columns_;  // column_a, column_b of each block in the factor (size 2 blocks)
 };
 
 // ldl_pgs.cpp: ldl-pgs's iterations on a system with inequality rows, after the factorization

@@ -1,6 +1,7 @@
 // ldl-pgs, the talk's hybrid: N-1 PGS sweeps over all rows, then one block Gauss-Seidel sweep
 // in which every equality row belongs to one block (index 0) solved exactly by the sparse
-// block LDL^T, and each inequality row is solved and projected on its own. PGS brings the
+// block LDL^T, and each inequality row is solved and projected on its own. Inequality rows
+// marked `factored` (contacts that stay active) join the exact block and are then projected. PGS brings the
 // inequality impulses near their active set; the exact block then removes the equality error
 // that PGS leaves on long chains, heavy loads and loops.
 #include "ldlpgs/solver/ldl_block.h"
@@ -17,6 +18,24 @@ LdlBlock::LdlBlock(const System& structure, const std::string& ordering) : h_(st
   numeric_ = std::make_unique<Numeric>(*symbolic_);
   work_.resize(h_.num_rows());
   h_.remap(symbolic_->load_map(), &packed_index_, &packed_diagonal_);
+  for (int k : h_.system_blocks()) {
+    columns_.push_back(structure.blocks[k].column_a);
+    columns_.push_back(structure.blocks[k].column_b);
+  }
+}
+
+bool LdlBlock::serves(const System& system) const {
+  const std::span<const int> mine = h_.system_blocks();
+  size_t at = 0;
+  for (int k = 0; k < static_cast<int>(system.blocks.size()); ++k) {
+    const RowBlock& b = system.blocks[k];
+    if (!b.in_factor()) continue;
+    if (at == mine.size() || mine[at] != k || h_.blocks().block(static_cast<int>(at)).size != b.size ||
+        columns_[2 * at] != b.column_a || columns_[2 * at + 1] != b.column_b)
+      return false;
+    ++at;
+  }
+  return at == mine.size();
 }
 
 FactorInfo LdlBlock::factorize(const System& system, const RowCache& rows) {
@@ -38,8 +57,12 @@ void LdlBlock::block_step(const System& system, const RowCache& rows, std::span<
   for (int k : h_.system_blocks()) {
     const RowBlock& b = system.blocks[k];
     for (int r = 0; r < b.size; ++r, ++at) {
-      lambda[b.position + r] += work_[at];
-      add_row_impulse(system, rows, k, r, work_[at], dv);
+      const int i = b.position + r;
+      double step = work_[at];
+      // A factored inequality row is projected onto its bounds (a contact pulling is let go).
+      if (!b.equality) step = std::clamp(lambda[i] + step, system.lower[i], system.upper[i]) - lambda[i];
+      lambda[i] += step;
+      add_row_impulse(system, rows, k, r, step, dv);
     }
   }
 }

@@ -39,8 +39,22 @@ inline void add_row_impulse(const System& system, const RowCache& cache, int k, 
     for (int c = 0; c < 6; ++c) dv[6 * b.column_b + c] += w[6 + c] * dlambda;
 }
 
+// Row i's bounds now: its own, or +-mu lambda_n on a friction row (pyramid; the disk is projected
+// per block by pgs_block).
+inline void row_bounds(const System& system, const RowBlock& b, int i, std::span<const double> lambda, double* lo,
+                       double* hi) {
+  if (b.friction_row < 0) {
+    *lo = system.lower[i];
+    *hi = system.upper[i];
+    return;
+  }
+  *hi = b.friction * std::max(0.0, lambda[b.friction_row]);
+  *lo = -*hi;
+}
+
 // One projected Gauss-Seidel step on row i (row r of block k) of (H + diag(eps_i H_ii)) lambda = R:
-//   lambda_i <- clamp(lambda_i + (R_i - J_i dV - eps_i H_ii lambda_i) / ((1 + eps_i) H_ii))
+//   lambda_i <- clamp(lambda_i + (R_i - J_i dV - eps_i H_ii lambda_i) / ((1 + eps_i + r_i) H_ii))
+// (r_i: the block's regularization, which damps the step but leaves its fixed point)
 //   dV_a += W_a J_ia^T dlambda,  dV_b += W_b J_ib^T dlambda
 // About 50 flops (the talk). A row with H_ii = 0 touches no dynamic column and is skipped.
 inline void pgs_row(const System& system, const RowCache& cache, int k, int r, std::span<double> lambda,
@@ -48,13 +62,35 @@ inline void pgs_row(const System& system, const RowCache& cache, int k, int r, s
   const int i = system.blocks[k].position + r;
   const double d = cache.diag[i];
   if (d <= 0) return;
-  const double eps = system.compliance[i];
+  const double eps = system.compliance[i], reg = system.blocks[k].regularization;
   const double old = lambda[i];
-  const double updated = std::clamp(old + (system.rhs[i] - row_times(system, k, r, dv) - eps * d * old) / ((1 + eps) * d),
-                                    system.lower[i], system.upper[i]);
+  double lo, hi;
+  row_bounds(system, system.blocks[k], i, lambda, &lo, &hi);
+  const double updated =
+      std::clamp(old + (system.rhs[i] - row_times(system, k, r, dv) - eps * d * old) / ((1 + eps + reg) * d), lo, hi);
   lambda[i] = updated;
   add_row_impulse(system, cache, k, r, updated - old, dv);
 }
+
+// The rows of a friction block with the disk bound, |lambda_block| <= mu lambda_n, solved
+// together on the disk (pgs.cpp: the block's exact step, maximal dissipation on the rim).
+void pgs_friction_disk(const System& system, const RowCache& cache, int k, std::span<double> lambda,
+                       std::span<double> dv);
+
+// One projected Gauss-Seidel step on every row of block k (friction disks as one).
+inline void pgs_block(const System& system, const RowCache& cache, int k, std::span<double> lambda,
+                      std::span<double> dv) {
+  const RowBlock& b = system.blocks[k];
+  if (b.friction_row >= 0 && !b.friction_pyramid) {
+    pgs_friction_disk(system, cache, k, lambda, dv);
+    return;
+  }
+  for (int r = 0; r < b.size; ++r) pgs_row(system, cache, k, r, lambda, dv);
+}
+
+// lambda clamped into its bounds (friction blocks onto their disk or box at the clamped normal
+// impulse; normal rows come before their friction rows): a warm start's projection.
+void project_onto_bounds(const System& system, std::span<double> lambda);
 
 // pgs.cpp: one sweep over the rows of every block (inequality_only: of the bounded blocks).
 void pgs_sweep(const System& system, const RowCache& cache, std::span<double> lambda, std::span<double> dv,

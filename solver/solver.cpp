@@ -4,12 +4,15 @@
 #include <algorithm>
 #include <array>
 #include <cassert>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string_view>
 
+
 #include "ldlpgs/solver/block_gs.h"
 #include "ldlpgs/solver/ldl_block.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 
@@ -41,19 +44,43 @@ class SolverState {
  public:
   RowCache rows;
   BlockCache blocks;
-  std::unique_ptr<LdlBlock> ldl;  // ldl-pgs, direct
-  // ldl-pgs and direct on a system without inequality rows: one exact solve and no sweeps (the talk's N-1 PGS sweeps would only move lambda the exact block then replaces)
+  // ldl-pgs, direct: one LDL block per set of factored blocks seen, most recently used first, at
+  // most kMaxSymbolics (contacts joining the factor change the set; a resting scene repeats it).
+  static constexpr size_t kMaxSymbolics = 16;
+  std::vector<std::unique_ptr<LdlBlock>> ldl;
+  std::string ordering;
+  bool factors = false;  // ldl-pgs, direct
+  // A system without inequality rows: one exact solve and no sweeps (the talk's N-1 PGS sweeps
+  // would only move lambda the exact block then replaces)
   bool exact = false;
   FactorInfo factor;  // the last solve's factorization (ldl-pgs, direct)
+  SymbolicStats stats;
+
+  // The LDL block serving `system`'s factored blocks, analysed now if no cached one does.
+  LdlBlock& ldl_for(const System& system) {
+    for (size_t i = 0; i < ldl.size(); ++i)
+      if (ldl[i]->serves(system)) {
+        std::rotate(ldl.begin(), ldl.begin() + static_cast<std::ptrdiff_t>(i), ldl.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+        return *ldl.front();
+      }
+    const auto start = std::chrono::steady_clock::now();
+    if (ldl.size() == kMaxSymbolics) ldl.pop_back();
+    ldl.insert(ldl.begin(), std::make_unique<LdlBlock>(system, ordering));
+    ++stats.analyses;
+    stats.analysis_us += std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
+    return *ldl.front();
+  }
 };
 
 Solver::Solver(const System& system, const SolverOptions& options)
     : options_(options), state_(std::make_unique<SolverState>()) {
   assert(options.iterations >= 1);
   if (options.kind == SolverKind::ldl_pgs || options.kind == SolverKind::direct) {
-    state_->exact = std::all_of(system.blocks.begin(), system.blocks.end(), [](const RowBlock& b) { return b.equality; });
-    assert(options.kind != SolverKind::direct || state_->exact);
-    state_->ldl = std::make_unique<LdlBlock>(system, options.ordering);
+    state_->factors = true;
+    state_->ordering = options.ordering;
+    assert(options.kind != SolverKind::direct ||
+           std::all_of(system.blocks.begin(), system.blocks.end(), [](const RowBlock& b) { return b.equality; }));
+    state_->ldl_for(system);
   }
 }
 
@@ -61,13 +88,14 @@ Solver::~Solver() = default;
 Solver::Solver(Solver&&) noexcept = default;
 Solver& Solver::operator=(Solver&&) noexcept = default;
 
-const Symbolic* Solver::symbolic() const { return state_->ldl ? &state_->ldl->symbolic() : nullptr; }
+const Symbolic* Solver::symbolic() const { return state_->factors ? &state_->ldl.front()->symbolic() : nullptr; }
+const SymbolicStats& Solver::symbolic_stats() const { return state_->stats; }
 
 namespace {
 
 // lambda clamped into its bounds and dV = W J^T lambda: the warm start of the iterative solvers.
 void warm_start(const System& system, std::span<double> lambda, std::span<double> dv) {
-  for (int i = 0; i < system.num_rows; ++i) lambda[i] = std::clamp(lambda[i], system.lower[i], system.upper[i]);
+  project_onto_bounds(system, lambda);
   std::fill(dv.begin(), dv.end(), 0.0);
   add_velocity_change(system, lambda, dv);
 }
@@ -76,8 +104,12 @@ void warm_start(const System& system, std::span<double> lambda, std::span<double
 
 SolveResult Solver::solve(const System& system, std::span<double> lambda, std::span<double> dv) {
   SolverState& s = *state_;
+  if (options_.kind == SolverKind::direct)
+    for (const RowBlock& b : system.blocks)
+      if (!b.equality) throw ArgumentError("Solver: direct takes equality rows only (an inequality block was given)");
   s.rows.update(system);
-  if (s.ldl) s.factor = s.ldl->factorize(system, s.rows);
+  s.exact = std::all_of(system.blocks.begin(), system.blocks.end(), [](const RowBlock& b) { return b.equality; });
+  if (s.factors) s.factor = s.ldl_for(system).factorize(system, s.rows);
   if (options_.kind == SolverKind::block_gs) s.blocks.update(system);
   return resolve(system, lambda, dv);
 }
@@ -90,9 +122,9 @@ SolveResult Solver::resolve(const System& system, std::span<double> lambda, std:
   SolverState& s = *state_;
   const int n = iterations > 0 ? iterations : options_.iterations;
   SolveResult result;
-  if (s.exact) {
+  if (s.exact && s.factors) {
     result.factor = s.factor;
-    if (result.ok()) s.ldl->exact_solve(system, s.rows, lambda, dv);
+    if (result.ok()) s.ldl.front()->exact_solve(system, s.rows, lambda, dv);
     return result;
   }
   warm_start(system, lambda, dv);
@@ -105,26 +137,56 @@ SolveResult Solver::resolve(const System& system, std::span<double> lambda, std:
       break;
     case SolverKind::ldl_pgs:
       result.factor = s.factor;
-      ldl_pgs_iterate(system, n, schedule.value_or(options_.schedule), s.rows, *s.ldl, s.factor.usable(), lambda, dv);
+      ldl_pgs_iterate(system, n, schedule.value_or(options_.schedule), s.rows, *s.ldl.front(), s.factor.usable(), lambda, dv);
       break;
-    case SolverKind::direct:  // exact (the constructor checked)
+    case SolverKind::direct:  // exact (checked in solve)
       break;
   }
   return result;
 }
 
+namespace {
+// A friction disk's residual: inside the disk the rows must meet their targets (|g|); on its rim
+// the impulse must oppose the residual g = J dV - R (maximal dissipation): g's part across the
+// impulse, and g's part along it when positive.
+double friction_disk_residual(const System& system, int k, std::span<const double> lambda, std::span<const double> dv) {
+  const RowBlock& b = system.blocks[k];
+  std::array<double, 6> g{};
+  double g_sq = 0, l_sq = 0, along = 0;
+  for (int r = 0; r < b.size; ++r) {
+    const int i = b.position + r;
+    g[r] = row_times(system, k, r, dv) - system.rhs[i];
+    g_sq += g[r] * g[r];
+    l_sq += lambda[i] * lambda[i];
+    along += g[r] * lambda[i];
+  }
+  const double radius = b.friction * std::max(0.0, lambda[b.friction_row]);
+  if (radius == 0) return 0;
+  if (std::sqrt(l_sq) < radius * (1 - 1e-12)) return std::sqrt(g_sq);
+  const double along_unit = along / std::sqrt(l_sq);  // g . lambda / |lambda|
+  return std::sqrt(std::max(0.0, g_sq - along_unit * along_unit)) + std::max(0.0, along_unit);
+}
+}  // namespace
+
 double velocity_residual(const System& system, std::span<const double> lambda, std::span<const double> dv) {
   double worst = 0;
   for (int k = 0; k < static_cast<int>(system.blocks.size()); ++k) {
     const RowBlock& b = system.blocks[k];
+    if (b.friction_row >= 0 && !b.friction_pyramid) {
+      worst = std::max(worst, friction_disk_residual(system, k, lambda, dv));
+      continue;
+    }
     for (int r = 0; r < b.size; ++r) {
       const int i = b.position + r;
       const double g = row_times(system, k, r, dv) - system.rhs[i];  // J_i dV - R_i
       // velocity units throughout: an unbounded or strictly interior row must meet its target;
       // a row at its lower bound may only exceed it (g >= 0), at its upper bound only fall short.
+      double lo, hi;
+      row_bounds(system, b, i, lambda, &lo, &hi);
       double v = std::abs(g);
-      if (lambda[i] <= system.lower[i]) v = std::max(0.0, -g);
-      else if (lambda[i] >= system.upper[i]) v = std::max(0.0, g);
+      if (lambda[i] <= lo) v = std::max(0.0, -g);
+      else if (lambda[i] >= hi) v = std::max(0.0, g);
+      if (lo == hi) v = 0;  // a row with no room (friction at a zero normal impulse)
       worst = std::max(worst, v);
     }
   }

@@ -15,11 +15,14 @@
 //                      direct    equality-only systems solved exactly by the LDL^T: the reference
 //
 // The symbolic phase (H's pattern, ordering, Symbolic) runs in the constructor, once per
-// structure; solve() is the numeric phase, every step, and may be called with any System of the
-// same structure. Lambda is warm-started: solve() starts from the lambda it is given. resolve()
+// structure; solve() is the numeric phase, every step, and may be called with any System whose
+// factored blocks (the equalities, and bounded blocks marked `factored`) are the same; blocks
+// that are not factored (contacts) may come and go between calls. A new set of factored blocks
+// runs the symbolic phase again, kept for reuse (SymbolicStats). Lambda is warm-started: solve() starts from the lambda it is given. resolve()
 // solves again with the last solve's matrix (its factor and caches) and a new right-hand side:
 // the position projection of physics/step.h.
 #include <memory>
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
@@ -63,6 +66,13 @@ struct SolveResult {
   bool ok() const { return factor.usable(); }
 };
 
+// How often the LDL^T's symbolic phase ran: once in the constructor, and again whenever the set
+// of factored blocks (RowBlock::in_factor) changes to one not seen among the last 16.
+struct SymbolicStats {
+  int64_t analyses = 0;
+  double analysis_us = 0;  // their time, in all
+};
+
 class SolverState;  // the per-structure workspace and symbolic phase
 
 class Solver {
@@ -88,6 +98,7 @@ class Solver {
   const SolverOptions& options() const { return options_; }
   // The LDL^T's symbolic phase (ldl-pgs, direct), or null.
   const class Symbolic* symbolic() const;
+  const SymbolicStats& symbolic_stats() const;
 
  private:
   SolverOptions options_;

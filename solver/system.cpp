@@ -2,6 +2,7 @@
 #include "ldlpgs/solver/system.h"
 
 #include <cassert>
+#include <cmath>
 #include <string>
 
 #include "ldlpgs/sparse/error.h"
@@ -43,6 +44,32 @@ void System::set_bounds(int block, double lower_bound, double upper_bound) {
     upper[r] = upper_bound;
   }
   b.equality = lower_bound == -kUnbounded && upper_bound == kUnbounded;
+}
+
+void System::set_friction(int block, int normal_row, double mu, bool pyramid) {
+  if (normal_row < 0 || normal_row >= num_rows)
+    throw ArgumentError("System::set_friction: normal row " + std::to_string(normal_row) + " outside 0.." +
+                        std::to_string(num_rows - 1));
+  if (!(mu >= 0 && std::isfinite(mu))) throw ArgumentError("System::set_friction: friction must be finite and >= 0");
+  RowBlock& b = blocks[block];
+  b.friction_row = normal_row;
+  b.friction = mu;
+  b.friction_pyramid = pyramid;
+  b.equality = false;
+}
+
+void System::truncate(int num_blocks) {
+  if (num_blocks < 0 || num_blocks > static_cast<int>(blocks.size()))
+    throw ArgumentError("System::truncate: " + std::to_string(num_blocks) + " blocks of " + std::to_string(blocks.size()));
+  if (num_blocks == static_cast<int>(blocks.size())) return;
+  const RowBlock& first = blocks[num_blocks];
+  num_rows = first.position;
+  jacobian.resize(first.offset);
+  lower.resize(num_rows);
+  upper.resize(num_rows);
+  rhs.resize(num_rows);
+  compliance.resize(num_rows);
+  blocks.resize(num_blocks);
 }
 
 bool System::same_structure(const System& other) const {

@@ -24,6 +24,21 @@ struct RowBlock {
   int column_a = -1, column_b = -1;
   int64_t offset = 0;
   bool equality = true;  // every row unbounded: part of the LDL block in ldl-pgs
+  // Friction: the block's rows (one or two tangents) are bounded together by friction times the
+  // impulse of row `friction_row` (a contact's normal row): |lambda_block| <= mu lambda_n, a disk,
+  // or each row in [-mu lambda_n, mu lambda_n] with friction_pyramid. -1: the bounds are lower/upper.
+  int friction_row = -1;
+  double friction = 0;
+  bool friction_pyramid = false;
+  // ldl-pgs: a bounded block whose rows join the LDL block, solved exactly with the equalities and
+  // then projected onto their bounds (contacts in the factor: papers/physics.md, "Contacts").
+  bool factored = false;
+  // A relative diagonal that regularizes the steps on these rows without changing their solution
+  // (a proximal point step: (H + r diag(H)) dlambda = R - H lambda, so the fixed point solves
+  // H lambda = R exactly), unlike the compliance, which softens the rows. Factored contacts take
+  // it: a manifold's points are redundant and H singular on them.
+  double regularization = 0;
+  bool in_factor() const { return equality || factored; }
 };
 
 struct System {
@@ -49,6 +64,10 @@ struct System {
   void set_compliance(double eps) { compliance.assign(num_rows, eps); }
   // Marks a block as bounded on all its rows (an inequality).
   void set_bounds(int block, double lower_bound, double upper_bound);
+  // Marks a block as friction rows bounded by mu times row `normal_row`'s impulse (RowBlock).
+  void set_friction(int block, int normal_row, double mu, bool pyramid = false);
+  // Drops the blocks from `num_blocks` on (a step's contacts), keeping the storage.
+  void truncate(int num_blocks);
   // Same blocks, columns and bounds kinds (the structure a solver's symbolic phase depends on).
   bool same_structure(const System& other) const;
 };

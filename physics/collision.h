@@ -1,0 +1,50 @@
+#pragma once
+// Collision detection: the touching shapes of a mechanism's bodies as contact points. ODE's
+// collision library does the work (spaces for the broad phase, dCollide's primitive pairs for
+// the narrow phase: up to 4 points per pair, a box on a plane gets its 4 corners); chosen by
+// measurement against Bullet and libccd (papers/physics.md, "Collision detection").
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ldlpgs/physics/mechanism.h"
+
+namespace ldlpgs {
+
+// One point where two shapes touch. The normal points from body a into body b (moving b along
+// it separates them); depth > 0 is the penetration (m). The points of a pair come together.
+struct ContactPoint {
+  int body_a = -1, body_b = -1;
+  int shape_a = -1, shape_b = -1;  // indices into each body's shapes
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world, between the two surfaces
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();   // world, unit
+  double depth = 0;
+};
+
+inline constexpr int kMaxPointsPerPair = 4;
+
+class CollisionWorld {
+ public:
+  // The geometry of every shape of `mechanism`, and the pairs of bodies that may not touch
+  // (joined by a constraint without `collide`). Shapes are checked by the readers.
+  explicit CollisionWorld(const Mechanism& mechanism);
+  ~CollisionWorld();
+  CollisionWorld(CollisionWorld&&) noexcept;
+  CollisionWorld& operator=(CollisionWorld&&) noexcept;
+
+  // The contact points at the bodies' current poses into `out` (cleared first; its storage is
+  // reused, so a step allocates nothing once the largest count has been seen).
+  void detect(const Mechanism& mechanism, std::vector<ContactPoint>* out);
+  bool empty() const;  // no shapes at all
+
+  struct Geometry;  // ODE's space and geoms (collision.cpp)
+
+ private:
+  std::unique_ptr<Geometry> geometry_;
+};
+
+bool has_shapes(const Mechanism& mechanism);
+
+}  // namespace ldlpgs

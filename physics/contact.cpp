@@ -1,0 +1,103 @@
+// Contact rows and the matching of contact points across steps (contact.h).
+#include "ldlpgs/physics/contact.h"
+
+#include <algorithm>
+#include <tuple>
+
+#include <Eigen/Geometry>
+
+namespace ldlpgs {
+
+namespace {
+
+using Eigen::Vector3d;
+
+auto pair_key(const Contact& c) { return std::make_tuple(c.body_a, c.body_b, c.shape_a, c.shape_b); }
+auto pair_key(const ContactPoint& p) { return std::make_tuple(p.body_a, p.body_b, p.shape_a, p.shape_b); }
+
+// The contact of a detected point: witness points depth/2 either side of the point along n, a
+// tangent frame built from n (Eigen's unitOrthogonal: deterministic), pair rules of shape.h.
+Contact contact_of(const Mechanism& m, const ContactPoint& p) {
+  const RigidBody &a = m.bodies[p.body_a], &b = m.bodies[p.body_b];
+  Contact c;
+  c.body_a = p.body_a;
+  c.body_b = p.body_b;
+  c.shape_a = p.shape_a;
+  c.shape_b = p.shape_b;
+  c.point = p;
+  const Vector3d on_a = p.position + 0.5 * p.depth * p.normal, on_b = p.position - 0.5 * p.depth * p.normal;
+  c.anchor_a = a.orientation.conjugate() * (on_a - a.position);
+  c.anchor_b = b.orientation.conjugate() * (on_b - b.position);
+  Eigen::Matrix3d world;
+  world.col(0) = p.normal.unitOrthogonal();
+  world.col(1) = p.normal.cross(world.col(0));
+  world.col(2) = p.normal;
+  c.frame_a = a.orientation.conjugate().toRotationMatrix() * world;
+  const Shape &sa = a.shapes[p.shape_a], &sb = b.shapes[p.shape_b];
+  c.friction = combined_friction(sa, sb);
+  c.restitution = combined_restitution(sa, sb);
+  return c;
+}
+
+// Last step's impulse carried over: the normal one as it is, the friction one as a world vector
+// re-expressed in the new tangents.
+void inherit(const Mechanism& m, const Contact& old, Contact* c) {
+  const Eigen::Matrix3d ra = m.bodies[c->body_a].orientation.toRotationMatrix();
+  const Vector3d friction = ra * (old.frame_a.col(0) * old.impulse[1] + old.frame_a.col(1) * old.impulse[2]);
+  c->impulse = {old.impulse[0], friction.dot(ra * c->frame_a.col(0)), friction.dot(ra * c->frame_a.col(1))};
+  c->pushing_steps = old.pushing_steps;
+}
+
+}  // namespace
+
+ConstraintRows evaluate(const Contact& contact, const RigidBody& a, const RigidBody& b) {
+  const Eigen::Matrix3d ra = a.orientation.toRotationMatrix();
+  const Vector3d r_a = ra * contact.anchor_a, r_b = b.orientation * contact.anchor_b;
+  const Vector3d d = (b.position + r_b) - (a.position + r_a);
+  ConstraintRows out;
+  out.rows = 3;
+  const int axis_of_row[3] = {2, 0, 1};  // n, t1, t2
+  for (int row = 0; row < 3; ++row) {
+    const Vector3d t = ra * contact.frame_a.col(axis_of_row[row]);
+    out.c[row] = t.dot(d);
+    out.angular[row] = false;
+    const Vector3d w_a = t.cross(d + r_a), w_b = r_b.cross(t);
+    double* j = out.jacobian.data() + 12 * row;
+    for (int k = 0; k < 3; ++k) {
+      j[k] = -t[k];
+      j[3 + k] = w_a[k];
+      j[6 + k] = t[k];
+      j[9 + k] = w_b[k];
+    }
+  }
+  return out;
+}
+
+void make_contacts(const Mechanism& m, std::span<const ContactPoint> points, std::span<const Contact> previous,
+                   double match_distance, std::vector<int>* order, std::vector<Contact>* out) {
+  out->clear();
+  order->resize(previous.size());
+  for (size_t i = 0; i < previous.size(); ++i) (*order)[i] = static_cast<int>(i);
+  std::sort(order->begin(), order->end(), [&](int x, int y) { return pair_key(previous[x]) < pair_key(previous[y]); });
+  for (const ContactPoint& p : points) {
+    Contact c = contact_of(m, p);
+    const auto [first, last] = std::equal_range(
+        order->begin(), order->end(), pair_key(p), [&](const auto& x, const auto& y) {
+          if constexpr (std::is_same_v<std::decay_t<decltype(x)>, int>) return pair_key(previous[x]) < y;
+          else return x < pair_key(previous[y]);
+        });
+    const Contact* best = nullptr;
+    double best_distance = match_distance;
+    for (auto it = first; it != last; ++it) {
+      const double distance = (previous[*it].anchor_a - c.anchor_a).norm();
+      if (distance <= best_distance) {
+        best_distance = distance;
+        best = &previous[*it];
+      }
+    }
+    if (best) inherit(m, *best, &c);
+    out->push_back(c);
+  }
+}
+
+}  // namespace ldlpgs

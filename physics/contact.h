@@ -1,0 +1,68 @@
+#pragma once
+// Contacts: the inequality rows of a step where two shapes touch. Each contact point gives a
+// normal row, impulse >= 0, and two friction rows bounded by mu times the normal impulse (a disk,
+// or the pyramid |lambda_t| <= mu lambda_n per row). Points are matched from one step to the
+// next (same bodies and shapes, nearest anchor within ContactOptions::match_distance) so that
+// their impulses warm-start the solver.
+#include <array>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ldlpgs/physics/collision.h"
+#include "ldlpgs/physics/constraint.h"
+
+namespace ldlpgs {
+
+struct ContactOptions {
+  // Penetration left in place (m): the position correction stops there, so that a resting
+  // contact keeps touching and is found again next step (Box2D's linear slop).
+  double slop = 0.005;
+  // Velocity-level correction of the penetration beyond the slop, a fraction per step
+  // (Baumgarte), at most max_correction_speed (m/s); the post-stabilization removes the rest
+  // without adding velocity (papers/physics.md, "Contacts").
+  double baumgarte = 0.2;
+  double max_correction_speed = 1;
+  // Restitution applies to approach speeds above this (m/s): slower contacts come to rest.
+  double restitution_threshold = 1;
+  bool friction_pyramid = false;  // the pyramid instead of the disk
+  double match_distance = 0.02;   // m, between a point's anchors on body a in two steps
+  // ldl-pgs: a contact pushing (positive normal impulse) for this many steps in a row joins the
+  // LDL block with its normal row (RowBlock::factored); 0: never, the talk's schedule.
+  int factor_after = 2;
+  // The regularization of a factored normal row (RowBlock::regularization): a manifold's points
+  // are redundant (4 rows, 3 degrees of freedom), and it bounds what the exact solve puts in
+  // their null space when a projection has left the right-hand side outside J's range, without
+  // softening the contact.
+  double regularization = 1e-4;
+};
+
+struct Contact {
+  int body_a = -1, body_b = -1;  // the normal points from a to b
+  int shape_a = -1, shape_b = -1;
+  // The witness points in each body's frame: n . ((p_b + R_b anchor_b) - (p_a + R_a anchor_a))
+  // is -depth at detection.
+  Eigen::Vector3d anchor_a = Eigen::Vector3d::Zero(), anchor_b = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d frame_a = Eigen::Matrix3d::Identity();  // columns t1, t2, n in a's frame
+  double friction = 0, restitution = 0;
+  ContactPoint point;                   // as detected this step (world frame)
+  std::array<double, 3> impulse{};      // normal, t1, t2 (N s): the last solve's
+  int pushing_steps = 0;                // steps in a row with a positive normal impulse
+  bool factored = false;                // its normal row is in the LDL block this step
+  int point_index = -1;                 // its place among this step's detected points
+};
+
+// Contact rows at the current pose, three slide rows c = t . d along n, t1, t2 of a's frame,
+// d = (p_b + r_b) - (p_a + r_a), r = R anchor:
+//   c_n = n . d (the separation; >= 0 apart),   J = [-t, t x (d + r_a), t, r_b x t]
+// (t turns with body a: dt/dt = w_a x t). The friction rows' c is the tangential drift, unused.
+ConstraintRows evaluate(const Contact& contact, const RigidBody& a, const RigidBody& b);
+
+// This step's contacts from the detected points, matched against last step's (`previous`):
+// a matched contact keeps its impulse (friction re-expressed in the new tangents) and its count
+// of pushing steps. `order` is scratch. Allocates nothing once the vectors have grown.
+void make_contacts(const Mechanism& mechanism, std::span<const ContactPoint> points, std::span<const Contact> previous,
+                   double match_distance, std::vector<int>* order, std::vector<Contact>* out);
+
+}  // namespace ldlpgs
