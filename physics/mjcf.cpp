@@ -10,6 +10,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -41,7 +42,8 @@ std::string describe(const MjcfDropped& dropped) {
     s += " ";
     s += what;
   };
-  add(dropped.geoms, "geoms (no contacts)");
+  add(dropped.geoms, "geoms of types without a shape (hfield, ellipsoid, cylinder, mesh: no contacts)");
+  add(dropped.contact_pairs, "contact pairs and excludes");
   add(dropped.tendons, "tendons");
   add(dropped.actuators, "actuators");
   add(dropped.sensors, "sensors");
@@ -175,9 +177,11 @@ class Converter {
     out_->gravity = (m_->opt.disableflags & mjDSBL_GRAVITY) ? Vector3d::Zero() : vec3(m_->opt.gravity);
     out_->timestep = m_->opt.timestep;
     for (int b = 0; b < m_->nbody; ++b) out_->add_body(body(b));
+    for (int g = 0; g < m_->ngeom; ++g) geom(g);
     for (int b = 1; b < m_->nbody; ++b) joint_rows(b);
     for (int e = 0; e < m_->neq; ++e) equality(e);
-    dropped_->geoms = m_->ngeom;
+    for (Constraint& c : out_->constraints) c.collide = mujoco_may_collide(c.body_a, c.body_b);
+    dropped_->contact_pairs = m_->npair + m_->nexclude;
     dropped_->tendons = m_->ntendon;
     dropped_->actuators = m_->nu;
     dropped_->sensors = m_->nsensor;
@@ -248,6 +252,63 @@ class Converter {
       J.hi = m_->jnt_range[2 * j + 1] - q0;
     }
     return J;
+  }
+
+  // A geom of a type shape.h has becomes a Shape on its body; the others are dropped. MuJoCo
+  // gives the geom's pose in its body frame, ours is the inertial frame (ipos, iquat in that
+  // body frame), so: position = iquat^-1 (pos - ipos), orientation = iquat^-1 quat.
+  void geom(int g) {
+    const int b = m_->geom_bodyid[g];
+    const mjtNum* size = m_->geom_size + 3 * g;  // (size 3) per type (mjmodel.h)
+    Shape s;
+    switch (m_->geom_type[g]) {
+      case mjGEOM_PLANE: s.type = ShapeType::plane; break;  // size: its extent drawn; infinite in contacts
+      case mjGEOM_SPHERE:
+        s.type = ShapeType::sphere;
+        s.radius = size[0];
+        break;
+      case mjGEOM_CAPSULE:  // size[0] radius, size[1] half length of the segment on the geom's z
+        s.type = ShapeType::capsule;
+        s.radius = size[0];
+        s.half_length = size[1];
+        break;
+      case mjGEOM_BOX:
+        s.type = ShapeType::box;
+        s.half_extents = vec3(size);
+        break;
+      default: ++dropped_->geoms; return;  // hfield, ellipsoid, cylinder, mesh
+    }
+    const Quaterniond to_inertial = quat(m_->body_iquat + 4 * b).conjugate();
+    s.position = to_inertial * (vec3(m_->geom_pos + 3 * g) - vec3(m_->body_ipos + 3 * b));
+    const Quaterniond orientation = to_inertial * quat(m_->geom_quat + 4 * g);
+    if (s.type == ShapeType::plane) {
+      s.normal = orientation * Vector3d::UnitZ();  // MuJoCo's plane: the geom's z up
+    } else {
+      s.orientation = orientation;
+    }
+    s.friction = m_->geom_friction[3 * g];  // sliding; torsional and rolling are dropped
+    // MuJoCo's bit masks are int: the same bits
+    s.contype = static_cast<uint32_t>(m_->geom_contype[g]);
+    s.conaffinity = static_cast<uint32_t>(m_->geom_conaffinity[g]);
+    const std::string problem = shape_problem(s, at(b).is_static);
+    if (!problem.empty()) {
+      std::string what = "geom \"";
+      what += name(m_->name_geomadr[g], "geom", g);
+      what += "\" on ";
+      what += body_label(b);
+      fail(what, problem);
+    }
+    out_->bodies[b].shapes.push_back(s);
+  }
+
+  // MuJoCo's body-pair filter (mj_collision): bodies of one weld group (body_weldid) never touch,
+  // nor a weld group and its parent's unless one is the world or filterparent is disabled.
+  bool mujoco_may_collide(int b1, int b2) const {
+    const int w1 = m_->body_weldid[b1], w2 = m_->body_weldid[b2];
+    if (w1 == w2) return false;
+    const int parent1 = m_->body_weldid[m_->body_parentid[w1]], parent2 = m_->body_weldid[m_->body_parentid[w2]];
+    const bool filter_parent = !(m_->opt.disableflags & mjDSBL_FILTERPARENT);
+    return !(filter_parent && w1 != 0 && w2 != 0 && (w1 == parent2 || w2 == parent1));
   }
 
   int add(const Constraint& c) { return out_->add_constraint(c); }

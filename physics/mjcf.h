@@ -23,11 +23,25 @@
 //               Constraints: the joints' body by body, then the equalities in MuJoCo's order.
 //   equality    connect -> ball, weld -> weld (at the relative pose of qpos0, which must be the
 //               weld's relpose); joint, tendon and distance equalities are refused.
+//   geoms       plane, sphere, capsule and box become Shapes (physics/shape.h) on their body, placed
+//               in our body frame (the inertial frame: iquat^-1 (geom_pos - ipos), iquat^-1
+//               geom_quat): a sphere's radius size[0], a capsule's radius size[0] and half length
+//               size[1] along the geom's z (mjmodel.h), a box's half extents size, a plane's
+//               normal the geom's +z (infinite, as in MuJoCo's contacts: its size only draws it);
+//               friction = the sliding coefficient geom_friction[0]; contype and conaffinity
+//               copied. A shape that fails shape_problem (a plane on a moving body) is refused.
+//               Each constraint collides (Constraint::collide) as MuJoCo's body-pair filter
+//               says: never within one weld group, nor between a weld group and its parent's
+//               unless one is the world or filterparent is disabled. (Pairs of such bodies not
+//               joined by a constraint, e.g. a welded child and its grandparent, are not
+//               filtered here.)
 //   options     gravity = opt.gravity (0 if disabled), timestep = opt.timestep.
-// Dropped, and counted in MjcfDropped: geoms (so contacts), tendons, actuators, sensors, joint
-// springs, damping, armature and friction loss, ball-joint and 3-hinge ranges, inactive
-// equalities, keyframes (the mechanism starts at qpos0, at rest), MuJoCo's soft-constraint
-// parameters (solref, solimp: our rows are hard).
+// Dropped, and counted in MjcfDropped: geoms of the types without a shape (hfield, ellipsoid,
+// cylinder, mesh: they touch nothing), explicit contact pairs and excludes, tendons, actuators,
+// sensors, joint springs, damping, armature and friction loss, ball-joint and 3-hinge ranges,
+// inactive equalities, keyframes (the mechanism starts at qpos0, at rest), MuJoCo's
+// soft-constraint parameters (solref, solimp: our rows are hard) and the geoms' other contact
+// parameters (condim, torsional and rolling friction, margin, gap, priority, solmix).
 //
 // The universal joint, MuJoCo's hinge n1 then hinge n2 on one body: n1's line is fixed in the
 // parent, n2's in the child (it turns with q1), so the child keeps 2 rotational degrees of
@@ -63,13 +77,16 @@ constexpr double kUniversalRodLength = 1.0;  // m
 
 // What the conversion left out (counts over the model).
 struct MjcfDropped {
-  int geoms = 0, tendons = 0, actuators = 0, sensors = 0, keyframes = 0;
+  int geoms = 0;             // of types without a shape: hfield, ellipsoid, cylinder, mesh
+  int contact_pairs = 0;     // explicit <contact> pairs and excludes
+  int tendons = 0, actuators = 0, sensors = 0, keyframes = 0;
   int joint_dynamics = 0;    // joints with stiffness, damping, armature or friction loss
   int ranges = 0;            // joint ranges not converted (ball joints, 3-hinge sets)
   int inactive_equalities = 0;
   int static_equalities = 0; // equalities between two static bodies (nothing to hold)
 };
-// One line: "dropped: 20 geoms (no contacts), 21 actuators, ..." (empty if nothing was dropped).
+// One line: "dropped: 3 geoms of types without a shape (...), 21 actuators, ..." (empty if
+// nothing was dropped).
 std::string describe(const MjcfDropped& dropped);
 
 // True if built with MuJoCo (LDLPGS_HAVE_MUJOCO); otherwise load_mjcf always throws.

@@ -3,10 +3,11 @@
 //   {"name": "...", "gravity": [0, -9.81, 0], "timestep": 0.01,
 //    "bodies": [{"name": "b1", "mass": 1, "inertia": [Ix, Iy, Iz], "position": [x, y, z],
 //                "orientation": [w, x, y, z], "linear_velocity": [..], "angular_velocity": [..],
-//                "force": [fx, fy, fz], "torque": [tx, ty, tz]},
-//               {"name": "ground", "static": true, "position": [x, y, z], "orientation": [..]}],
+//                "force": [fx, fy, fz], "torque": [tx, ty, tz], "shapes": [SHAPE, ..]},
+//               {"name": "ground", "static": true, "position": [x, y, z], "orientation": [..],
+//                "shapes": [SHAPE, ..]}],
 //    "constraints": [{"type": "ball" | "hinge" | "prismatic" | "cylindrical" | "weld",
-//                     "bodies": ["a", "b"], "anchor": [x, y, z], "axis": [x, y, z]},
+//                     "bodies": ["a", "b"], "anchor": [x, y, z], "axis": [x, y, z], "collide": false},
 //                    {"type": "rod" | "rope", "bodies": ["a", "b"], "anchors": [[..], [..]], "length": l},
 //                    {"type": "angular_limit", "bodies": ["a", "b"], "axis": [..], "min": lo, "max": hi},
 //                    {"type": "positional_limit", "bodies": ["a", "b"], "anchor": [..], "axis": [..],
@@ -19,18 +20,31 @@
 // (RigidBody::applied_force, applied_torque). A static body has only name, static, position and
 // orientation (a force or torque on it is refused: it never moves). Every other key is refused,
 // so that a typo ("positon") is never silently a default.
+// A body's collision shapes (physics/shape.h), each SHAPE one of
+//   {"type": "sphere", "radius": r}
+//   {"type": "capsule", "radius": r, "half_length": h}      axis: the shape's z; h excludes the caps
+//   {"type": "box", "half_extents": [hx, hy, hz]}
+//   {"type": "plane", "normal": [x, y, z]}                   static bodies only; through `position`
+// with, for all, "position": [x, y, z] and (but a plane) "orientation": [w, x, y, z], the pose in
+// the body frame (default: the body's own), and "friction" (0.5), "restitution" (0), "contype"
+// and "conaffinity" (1: integers in [0, 2^32 - 1]). A type's own keys are required, another
+// type's refused; the values must pass shape_problem; a plane's normal (body frame) is normalized
+// after that check. A constraint's "collide" (default false): whether the shapes of the two
+// bodies it joins touch each other.
 #include "ldlpgs/physics/scene.h"
 
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <istream>
 #include <set>
+#include <span>
 #include <streambuf>
 #include <string_view>
 #include <unordered_map>
@@ -132,6 +146,9 @@ class Entry {
 
   void append_to_label(const std::string& s) { label_ += s; }
 
+  // An entry inside this one ("bodies[2] (\"wheel\"): shapes[0]").
+  Entry child(const std::string& label, const json& value) const { return Entry(source_, cat(label_, ": ", label), value); }
+
   [[noreturn]] void fail(const std::string& problem) const {
     throw InputError(cat(source_, ": ", label_, label_.empty() ? "" : ": ", problem));
   }
@@ -142,6 +159,9 @@ class Entry {
 
   // Refuses any key not in `keys`; `whose` says for what kind of entry they are the keys.
   void allow_only(std::initializer_list<std::string_view> keys, const std::string& whose) const {
+    allow_only(std::span<const std::string_view>(keys.begin(), keys.size()), whose);
+  }
+  void allow_only(std::span<const std::string_view> keys, const std::string& whose) const {
     for (auto it = value_.begin(); it != value_.end(); ++it) {
       if (std::find(keys.begin(), keys.end(), it.key()) != keys.end()) continue;
       std::string problem = cat("unknown key ", in_quotes(it.key()), " (", whose, " has:");
@@ -175,6 +195,13 @@ class Entry {
   }
 
   double number(const char* key) const { return number_value(required(key), key); }
+
+  uint32_t uint32(const char* key) const {
+    const json& v = required(key);
+    if (!v.is_number_unsigned() || v.get<uint64_t>() > UINT32_MAX)
+      fail(cat(key, " must be an integer in [0, 4294967295], got ", describe(v)));
+    return static_cast<uint32_t>(v.get<uint64_t>());
+  }
 
   double positive(const char* key) const {
     const double x = number(key);
@@ -230,16 +257,65 @@ class Entry {
   const json& value_;
 };
 
+// The keys of a shape of `type` besides the common ones, all required (physics/shape.h).
+std::vector<std::string_view> own_shape_keys(ShapeType type) {
+  switch (type) {
+    case ShapeType::plane: return {"normal"};
+    case ShapeType::sphere: return {"radius"};
+    case ShapeType::capsule: return {"radius", "half_length"};
+    case ShapeType::box: return {"half_extents"};
+  }
+  return {};
+}
+
+// One of a body's "shapes" (the format above), checked by shape_problem.
+Shape parse_shape(const Entry& e, bool body_is_static) {
+  e.require_object("a shape");
+  const std::string type_name = e.string("type");
+  Shape s;
+  if (!shape_type_from_string(type_name, &s.type))
+    e.fail(cat("unknown shape type ", in_quotes(type_name), " (known: plane, sphere, capsule, box)"));
+  std::vector<std::string_view> keys = {"type", "position", "friction", "restitution", "contype", "conaffinity"};
+  if (s.type != ShapeType::plane) keys.push_back("orientation");  // a plane's is its normal
+  const std::vector<std::string_view> own = own_shape_keys(s.type);
+  keys.insert(keys.end(), own.begin(), own.end());
+  e.allow_only(keys, cat("a ", type_name, " shape"));
+  if (e.has("position")) s.position = e.vector("position");
+  if (e.has("orientation")) s.orientation = e.orientation("orientation");
+  if (e.has("friction")) s.friction = e.number("friction");
+  if (e.has("restitution")) s.restitution = e.number("restitution");
+  if (e.has("contype")) s.contype = e.uint32("contype");
+  if (e.has("conaffinity")) s.conaffinity = e.uint32("conaffinity");
+  switch (s.type) {
+    case ShapeType::plane: s.normal = e.vector("normal"); break;
+    case ShapeType::capsule: s.half_length = e.number("half_length"); [[fallthrough]];
+    case ShapeType::sphere: s.radius = e.number("radius"); break;
+    case ShapeType::box: s.half_extents = e.vector("half_extents"); break;
+  }
+  const std::string problem = shape_problem(s, body_is_static);
+  if (!problem.empty()) e.fail(problem);
+  s.normal.normalize();  // the check above bounds its length away from 0
+  return s;
+}
+
+std::vector<Shape> parse_shapes(const Entry& body, const json& shapes, bool body_is_static) {
+  if (!shapes.is_array()) body.fail(cat("shapes must be an array, got ", describe(shapes)));
+  std::vector<Shape> out;
+  for (size_t i = 0; i < shapes.size(); ++i)
+    out.push_back(parse_shape(body.child(cat("shapes[", std::to_string(i), "]"), shapes[i]), body_is_static));
+  return out;
+}
+
 // The body's data but its name (read first, to name the entry in messages).
 void parse_body_data(const Entry& e, RigidBody* b) {
   b->is_static = e.boolean_or("static", false);
   if (b->is_static) {
     for (const char* load : {"force", "torque"})
       if (e.has(load)) e.fail(cat("a static body cannot carry a ", load, " (it never moves)"));
-    e.allow_only({"name", "static", "position", "orientation"}, "a static body");
+    e.allow_only({"name", "static", "position", "orientation", "shapes"}, "a static body");
   } else {
     e.allow_only({"name", "static", "mass", "inertia", "position", "orientation", "linear_velocity",
-                  "angular_velocity", "force", "torque"},
+                  "angular_velocity", "force", "torque", "shapes"},
                  "a body");
     b->mass = e.positive("mass");
     b->inertia = e.positive_vector("inertia");
@@ -250,6 +326,7 @@ void parse_body_data(const Entry& e, RigidBody* b) {
   }
   b->position = e.vector("position");
   if (e.has("orientation")) b->orientation = e.orientation("orientation");
+  if (e.has("shapes")) b->shapes = parse_shapes(e, e.required("shapes"), b->is_static);
 }
 
 // The two endpoints of a rod or rope.
@@ -280,12 +357,12 @@ Constraint parse_constraint(const Entry& e, const Mechanism& m,
     case ConstraintType::weld:
     case ConstraintType::hinge:
     case ConstraintType::prismatic:
-    case ConstraintType::cylindrical: e.allow_only({"type", "bodies", "anchor", "axis"}, whose); break;
+    case ConstraintType::cylindrical: e.allow_only({"type", "bodies", "anchor", "axis", "collide"}, whose); break;
     case ConstraintType::rod:
-    case ConstraintType::rope: e.allow_only({"type", "bodies", "anchors", "length"}, whose); break;
-    case ConstraintType::angular_limit: e.allow_only({"type", "bodies", "axis", "min", "max"}, whose); break;
+    case ConstraintType::rope: e.allow_only({"type", "bodies", "anchors", "length", "collide"}, whose); break;
+    case ConstraintType::angular_limit: e.allow_only({"type", "bodies", "axis", "min", "max", "collide"}, whose); break;
     case ConstraintType::positional_limit:
-      e.allow_only({"type", "bodies", "anchor", "axis", "min", "max"}, whose);
+      e.allow_only({"type", "bodies", "anchor", "axis", "min", "max", "collide"}, whose);
       break;
   }
 
@@ -379,7 +456,9 @@ Mechanism parse_scene(const json& scene, const std::string& source) {
     for (size_t i = 0; i < constraints.size(); ++i) {
       const Entry e(source, cat("constraints[", std::to_string(i), "]"), constraints[i]);
       e.require_object("a constraint");
-      m.add_constraint(parse_constraint(e, m, index));
+      Constraint c = parse_constraint(e, m, index);
+      c.collide = e.boolean_or("collide", false);
+      m.add_constraint(std::move(c));
     }
   }
   check_ranges(m, source);
@@ -544,12 +623,34 @@ namespace {
 
 // x + 0.0 writes -0.0 as 0.0 (rounding to nearest): the same value, a tidier file
 json to_json(const Eigen::Vector3d& v) { return json::array({v.x() + 0.0, v.y() + 0.0, v.z() + 0.0}); }
+json to_json(const Eigen::Quaterniond& q) { return json::array({q.w() + 0.0, q.x() + 0.0, q.y() + 0.0, q.z() + 0.0}); }
+
+// Every key of the shape, defaults included: a shape is a line of the file anyway.
+json to_json(const Shape& s) {
+  json o = json::object();
+  o["type"] = to_string(s.type);
+  o["position"] = to_json(s.position);
+  switch (s.type) {
+    case ShapeType::plane: o["normal"] = to_json(s.normal); break;
+    case ShapeType::capsule: o["half_length"] = s.half_length; [[fallthrough]];
+    case ShapeType::sphere: o["radius"] = s.radius; break;
+    case ShapeType::box: o["half_extents"] = to_json(s.half_extents); break;
+  }
+  if (s.type != ShapeType::plane) o["orientation"] = to_json(s.orientation.normalized());
+  o["friction"] = s.friction;
+  o["restitution"] = s.restitution;
+  o["contype"] = s.contype;
+  o["conaffinity"] = s.conaffinity;
+  return o;
+}
 
 // Inline JSON with the keys in the order the format lists them (nlohmann sorts them).
 int key_rank(const std::string& key) {
-  static constexpr std::string_view order[] = {"name", "static", "type", "bodies", "mass", "inertia", "position",
-                                               "orientation", "linear_velocity", "angular_velocity", "force",
-                                               "torque", "anchor", "anchors", "axis", "length", "min", "max"};
+  static constexpr std::string_view order[] = {
+      "name", "static", "type", "bodies", "mass", "inertia", "position", "orientation", "linear_velocity",
+      "angular_velocity", "force", "torque", "shapes", "anchor", "anchors", "axis", "length", "min", "max",
+      "collide", "radius", "half_length", "half_extents", "normal", "friction", "restitution", "contype",
+      "conaffinity"};
   const auto it = std::find(std::begin(order), std::end(order), key);
   return static_cast<int>(it - std::begin(order));
 }
@@ -598,8 +699,7 @@ json scene_to_json(const Mechanism& m) {
       o["inertia"] = to_json(b.inertia);
     }
     o["position"] = to_json(b.position);
-    const Eigen::Quaterniond q = b.orientation.normalized();
-    o["orientation"] = json::array({q.w() + 0.0, q.x() + 0.0, q.y() + 0.0, q.z() + 0.0});
+    o["orientation"] = to_json(b.orientation.normalized());
     if (!b.is_static) {
       // zero velocities are the default: left out to keep files short
       if (!b.linear_velocity.isZero(0)) o["linear_velocity"] = to_json(b.linear_velocity);
@@ -607,6 +707,11 @@ json scene_to_json(const Mechanism& m) {
       // so are zero loads
       if (!b.applied_force.isZero(0)) o["force"] = to_json(b.applied_force);
       if (!b.applied_torque.isZero(0)) o["torque"] = to_json(b.applied_torque);
+    }
+    if (!b.shapes.empty()) {  // none is the default
+      json shapes = json::array();
+      for (const Shape& s : b.shapes) shapes.push_back(to_json(s));
+      o["shapes"] = std::move(shapes);
     }
     bodies.push_back(std::move(o));
   }
@@ -641,6 +746,7 @@ json scene_to_json(const Mechanism& m) {
         o["max"] = c.max;
         break;
     }
+    if (c.collide) o["collide"] = true;  // false is the default
     constraints.push_back(std::move(o));
   }
   scene["constraints"] = std::move(constraints);

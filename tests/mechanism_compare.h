@@ -2,14 +2,32 @@
 // Two mechanisms compared field by field in tests (scene files against built-ins, round trips).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 
 #include "ldlpgs/physics/mechanism.h"
 
 namespace ldlpgs::testing {
 
-// Every body (loads included) and every constraint's local data equal to within tol (static
-// bodies: name, position and orientation, the only data a file gives them).
+// Two shapes (physics/shape.h) equal to within tol, integers exactly.
+void expect_same_shape(const Shape& x, const Shape& y, double tol) {
+  EXPECT_EQ(x.type, y.type);
+  EXPECT_LE((x.position - y.position).norm(), tol);
+  if (x.type != ShapeType::plane) {  // a plane's orientation is its normal
+    EXPECT_LE((x.orientation.coeffs() - y.orientation.coeffs()).norm(), tol);
+  }
+  EXPECT_NEAR(x.radius, y.radius, tol);
+  EXPECT_NEAR(x.half_length, y.half_length, tol);
+  EXPECT_LE((x.half_extents - y.half_extents).norm(), tol);
+  EXPECT_LE((x.normal - y.normal).norm(), tol);
+  EXPECT_NEAR(x.friction, y.friction, tol);
+  EXPECT_NEAR(x.restitution, y.restitution, tol);
+  EXPECT_EQ(x.contype, y.contype);
+  EXPECT_EQ(x.conaffinity, y.conaffinity);
+}
+
+// Every body (loads and shapes included) and every constraint's local data equal to within tol
+// (static bodies: name, position, orientation and shapes, the only data a file gives them).
 void expect_same(const Mechanism& a, const Mechanism& b, double tol) {
   EXPECT_EQ(a.name, b.name);
   EXPECT_LE((a.gravity - b.gravity).norm(), tol);
@@ -22,6 +40,11 @@ void expect_same(const Mechanism& a, const Mechanism& b, double tol) {
     EXPECT_EQ(x.is_static, y.is_static);
     EXPECT_LE((x.position - y.position).norm(), tol);
     EXPECT_LE((x.orientation.coeffs() - y.orientation.coeffs()).norm(), tol);
+    EXPECT_EQ(x.shapes.size(), y.shapes.size());
+    for (size_t k = 0; k < std::min(x.shapes.size(), y.shapes.size()); ++k) {
+      SCOPED_TRACE(std::string("shape ") + std::to_string(k));
+      expect_same_shape(x.shapes[k], y.shapes[k], tol);
+    }
     if (x.is_static) continue;
     EXPECT_NEAR(x.mass, y.mass, tol * x.mass);
     EXPECT_LE((x.inertia - y.inertia).norm(), tol * x.inertia.norm());
@@ -44,6 +67,7 @@ void expect_same(const Mechanism& a, const Mechanism& b, double tol) {
     EXPECT_NEAR(x.length, y.length, tol);
     EXPECT_NEAR(x.min, y.min, tol);
     EXPECT_NEAR(x.max, y.max, tol);
+    EXPECT_EQ(x.collide, y.collide);
   }
 }
 

@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <random>
@@ -156,6 +158,66 @@ Eigen::MatrixXd rows_times_motions(const ConstraintRows& rows, const Constraint&
 // a wrong anchor, axis or frame gives errors of the size of the configuration change (0.1-1).
 constexpr double kRounding = 1e-10;
 
+// Our shapes against MuJoCo's geoms at the pose of d (mj_kinematics at qpos0, the pose of
+// load_mjcf's bodies): for every geom of a type shape.h has, in MuJoCo's order on its body, the
+// type, the sizes, the sliding friction and the filter bits as mjModel has them, and the world
+// pose: to_world(position) = geom_xpos, the body's orientation times the shape's = geom_xmat, a
+// plane's normal = geom_xmat's z (on a static body). MuJoCo's kinematics compose the poses
+// through the body frames (xpos, xquat); the converter through the inertial frame (ipos, iquat).
+struct ShapeCounts {
+  std::array<int, 4> of_type{};  // by ShapeType
+  int dropped = 0;               // geoms of the other types
+};
+
+// Geoms of the kinematics at O(10 m) (the 22 humanoids): rounding is ~1e-14.
+constexpr double kGeomPose = 1e-9;
+
+ShapeCounts expect_shapes_match(const mjModel* m, const mjData* d, const Mechanism& mech) {
+  ShapeCounts counts;
+  for (int b = 0; b < m->nbody; ++b) {
+    const RigidBody& body = mech.bodies[b];
+    size_t k = 0;  // the next shape of the body
+    for (int g = m->body_geomadr[b]; g >= 0 && g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
+      SCOPED_TRACE("geom " + std::to_string(g) + " on body " + body.name);
+      ShapeType type;
+      switch (m->geom_type[g]) {
+        case mjGEOM_PLANE: type = ShapeType::plane; break;
+        case mjGEOM_SPHERE: type = ShapeType::sphere; break;
+        case mjGEOM_CAPSULE: type = ShapeType::capsule; break;
+        case mjGEOM_BOX: type = ShapeType::box; break;
+        default: ++counts.dropped; continue;
+      }
+      if (k == body.shapes.size()) {
+        ADD_FAILURE() << "no shape for the geom";
+        break;
+      }
+      const Shape& s = body.shapes[k++];
+      ++counts.of_type[static_cast<int>(type)];
+      EXPECT_EQ(s.type, type);
+      const mjtNum* size = m->geom_size + 3 * g;
+      switch (type) {
+        case ShapeType::plane: break;  // its size only draws it
+        case ShapeType::capsule: EXPECT_EQ(s.half_length, size[1]); [[fallthrough]];
+        case ShapeType::sphere: EXPECT_EQ(s.radius, size[0]); break;
+        case ShapeType::box: EXPECT_EQ(s.half_extents, Vector3d(size)); break;
+      }
+      EXPECT_EQ(s.friction, m->geom_friction[3 * g]);
+      EXPECT_EQ(s.contype, static_cast<uint32_t>(m->geom_contype[g]));
+      EXPECT_EQ(s.conaffinity, static_cast<uint32_t>(m->geom_conaffinity[g]));
+      EXPECT_LE((body.to_world(s.position) - Vector3d(d->geom_xpos + 3 * g)).norm(), kGeomPose);
+      const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> xmat(d->geom_xmat + 9 * g);
+      if (type == ShapeType::plane) {
+        EXPECT_TRUE(body.is_static);
+        EXPECT_LE((body.orientation * s.normal - xmat.col(2)).norm(), kGeomPose);
+      } else {
+        EXPECT_LE(((body.orientation * s.orientation).toRotationMatrix() - xmat).norm(), kGeomPose);
+      }
+    }
+    EXPECT_EQ(k, body.shapes.size()) << "shapes without a geom on body " << body.name;
+  }
+  return counts;
+}
+
 TEST(Mjcf, ShippedModelsMatchMuJoCo) {
   std::mt19937 rng(6);
   int loaded = 0;
@@ -181,7 +243,9 @@ TEST(Mjcf, ShippedModelsMatchMuJoCo) {
 
     // Counts, masses, gravity, timestep.
     ASSERT_EQ(static_cast<int>(mech.bodies.size()), m->nbody);
-    EXPECT_EQ(dropped.geoms, m->ngeom);
+    const ShapeCounts shapes = expect_shapes_match(m, d, mech);
+    EXPECT_EQ(dropped.geoms, shapes.dropped);
+    EXPECT_EQ(shapes.of_type[0] + shapes.of_type[1] + shapes.of_type[2] + shapes.of_type[3] + shapes.dropped, m->ngeom);
     double mass = 0;
     Vector3d moment = Vector3d::Zero();
     for (const RigidBody& b : mech.bodies) {
@@ -354,13 +418,80 @@ TEST(Mjcf, HumanoidFallingWhileMovingFollowsFreeFall) {
 TEST(Mjcf, DroppedIsCountedAndDescribed) {
   MjcfDropped dropped;
   load_mjcf(kModels + "/humanoid/humanoid.xml", &dropped);
-  EXPECT_EQ(dropped.geoms, 20);
+  EXPECT_EQ(dropped.geoms, 0) << "planes, spheres and capsules: all shapes";
   EXPECT_EQ(dropped.actuators, 21);
   EXPECT_EQ(dropped.ranges, 6) << "the two hips' three hinges";
   const std::string line = describe(dropped);
-  EXPECT_NE(line.find("20 geoms"), std::string::npos) << line;
+  EXPECT_EQ(line.find("geoms"), std::string::npos) << line;
   EXPECT_NE(line.find("21 actuators"), std::string::npos) << line;
   EXPECT_EQ(line.find('\n'), std::string::npos) << "one line";
+  // geoms of types without a shape, and explicit contact pairs and excludes
+  const std::string path = temp_file("dropped.xml", "<mujoco><worldbody><body name=\"a\"><freejoint/>"
+                                                    "<geom type=\"cylinder\" size=\".1 .2\"/><geom type=\"ellipsoid\" "
+                                                    "size=\".1 .2 .3\"/><geom type=\"sphere\" size=\".1\"/></body>"
+                                                    "<body name=\"b\"><freejoint/><geom type=\"box\" size=\".1 .1 .1\"/>"
+                                                    "</body></worldbody><contact><exclude body1=\"a\" body2=\"b\"/>"
+                                                    "</contact></mujoco>");
+  dropped = MjcfDropped{};
+  const Mechanism m = load_mjcf(path, &dropped);
+  EXPECT_EQ(dropped.geoms, 2);
+  EXPECT_EQ(dropped.contact_pairs, 1);
+  EXPECT_EQ(m.bodies[1].shapes.size(), 1u);
+  EXPECT_EQ(m.bodies[2].shapes.size(), 1u);
+  EXPECT_EQ(describe(dropped),
+            "dropped: 2 geoms of types without a shape (hfield, ellipsoid, cylinder, mesh: no contacts), "
+            "1 contact pairs and excludes");
+}
+
+// The humanoid's geoms: the floor a plane on the static world, 16 capsules and 3 spheres on the
+// 16 moving bodies, each as MuJoCo compiled it (expect_shapes_match).
+TEST(Mjcf, HumanoidShapesMatchMuJoCo) {
+  const std::string path = kModels + "/humanoid/humanoid.xml";
+  const Mechanism mech = load_mjcf(path);
+  const ModelPtr model = mujoco_model(path);
+  ASSERT_TRUE(model);
+  const DataPtr data(mj_makeData(model.get()));
+  kinematics(model.get(), data.get());
+  const ShapeCounts counts = expect_shapes_match(model.get(), data.get(), mech);
+  EXPECT_EQ(counts.of_type[static_cast<int>(ShapeType::plane)], 1);
+  EXPECT_EQ(counts.of_type[static_cast<int>(ShapeType::capsule)], 16);
+  EXPECT_EQ(counts.of_type[static_cast<int>(ShapeType::sphere)], 3);
+  EXPECT_EQ(counts.of_type[static_cast<int>(ShapeType::box)], 0);
+  EXPECT_EQ(counts.dropped, 0);
+  ASSERT_EQ(mech.bodies[0].shapes.size(), 1u);
+  EXPECT_TRUE(mech.bodies[0].is_static);
+  EXPECT_EQ(mech.bodies[0].shapes[0].type, ShapeType::plane) << "the floor";
+  EXPECT_EQ(mech.bodies[0].shapes[0].normal, Vector3d(0, 0, 1));
+  // the torso is free: every joint joins two moving bodies, a parent and its child, which
+  // MuJoCo's filterparent keeps apart
+  for (const Constraint& c : mech.constraints) EXPECT_FALSE(c.collide);
+}
+
+// Constraint::collide as MuJoCo's body-pair filter: a body collides with the world it is
+// hinged to, not with a moving parent unless filterparent is disabled; bodies welded together
+// (no joint) never; an equality between unrelated bodies does not keep them apart.
+TEST(Mjcf, CollideFollowsMuJoCosFilter) {
+  const std::string bodies =
+      "<worldbody><body name=\"a\"><joint axis=\"1 0 0\"/><geom size=\".1\"/>"
+      "<body name=\"b\" pos=\"0 0 1\"><joint axis=\"1 0 0\"/><geom size=\".1\"/>"
+      "<body name=\"c\" pos=\"0 0 1\"><geom size=\".1\"/></body></body></body>"
+      "<body name=\"d\" pos=\"2 0 0\"><freejoint/><geom size=\".1\"/></body></worldbody>"
+      "<equality><connect body1=\"a\" body2=\"d\" anchor=\"1 0 0\"/></equality></mujoco>";
+  for (const bool filterparent : {true, false}) {
+    const Mechanism m = load_mjcf(temp_file("collide.xml", std::string("<mujoco>") +
+                                                                (filterparent ? "" : "<option><flag filterparent=\"disable\"/></option>") +
+                                                                bodies));
+    SCOPED_TRACE(filterparent ? "filterparent" : "filterparent disabled");
+    ASSERT_EQ(m.constraints.size(), 4u);
+    const auto joins = [&](size_t i, const char* x, const char* y) {
+      return m.bodies[m.constraints[i].body_a].name == x && m.bodies[m.constraints[i].body_b].name == y;
+    };
+    ASSERT_TRUE(joins(0, "world", "a") && joins(1, "a", "b") && joins(2, "b", "c") && joins(3, "a", "d"));
+    EXPECT_TRUE(m.constraints[0].collide) << "the world hinge: MuJoCo collides bodies with the world";
+    EXPECT_EQ(m.constraints[1].collide, !filterparent) << "parent and child";
+    EXPECT_FALSE(m.constraints[2].collide) << "one weld group";
+    EXPECT_TRUE(m.constraints[3].collide) << "an equality between unrelated bodies";
+  }
 }
 
 // Bad input: the message names the file and the construct.
@@ -413,6 +544,20 @@ TEST(MjcfBadInput, HingeAndSlideOnDifferentAxes) {
                                      "<joint name=\"b\" type=\"slide\" axis=\"0 1 0\"/>" + kBody +
                                      "</body></worldbody></mujoco>"),
                  {"body \"arm\"", "a (hinge), b (slide)", "different axes"});
+}
+
+// MuJoCo accepts a sphere of 2e9 m and a negative friction; shape_problem does not (MuJoCo
+// itself refuses a plane on a moving body).
+TEST(MjcfBadInput, GeomOutsideTheShapeRanges) {
+  const std::string start = "<mujoco><worldbody><body name=\"arm\"><joint axis=\"1 0 0\"/>";
+  expect_refused(temp_file("big.xml", start + "<geom name=\"ball\" size=\"2e9\"/></body></worldbody></mujoco>"),
+                 {"geom \"ball\" on body \"arm\": radius 2e+09 is not in (0, 1e9] m"});
+  expect_refused(temp_file("friction.xml", start + "<geom name=\"ball\" size=\".1\" friction=\"-1 0 0\"/></body>"
+                                                   "</worldbody></mujoco>"),
+                 {"geom \"ball\" on body \"arm\": friction -1 is not finite and >= 0"});
+  expect_refused(temp_file("plane.xml", start + "<geom name=\"floor\" type=\"plane\" size=\"1 1 1\"/></body>"
+                                                "</worldbody></mujoco>"),
+                 {"MuJoCo cannot load it", "plane"});
 }
 
 TEST(MjcfBadInput, JointEquality) {

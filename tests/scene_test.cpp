@@ -213,6 +213,85 @@ TEST(Scene, BallAcceptsAnAxisAndIgnoresIt) {
   expect_same(with_axis, parse_scene(valid(), "scene.json"), 0);
 }
 
+// valid() with a shape of each type: a plane and a box on the ground, a sphere with every
+// default and a capsule with every key on b1, a box on b2; the hinge's bodies collide.
+json with_shapes() {
+  json s = valid();
+  s["bodies"][0]["shapes"] = json::parse(R"([
+      {"type": "plane", "position": [0, -2, 0], "normal": [0, 2, 0], "friction": 0.8, "restitution": 0.1},
+      {"type": "box", "position": [3, -1.5, 0], "half_extents": [0.5, 0.25, 1], "contype": 2, "conaffinity": 6}])");
+  s["bodies"][1]["shapes"] = json::parse(R"([
+      {"type": "sphere", "radius": 0.3},
+      {"type": "capsule", "position": [0.1, 0.2, -0.3], "orientation": [0.5, 0.5, -0.5, 0.5], "radius": 0.05,
+       "half_length": 0.4, "friction": 0, "restitution": 1, "contype": 0, "conaffinity": 4294967295}])");
+  s["bodies"][2]["shapes"] = json::parse(R"([{"type": "box", "orientation": [2, 0, 0, 0], "half_extents": [0.1, 0.2, 0.3]}])");
+  s["constraints"][1]["collide"] = true;
+  s["constraints"][2]["collide"] = false;
+  return s;
+}
+
+Eigen::Vector3d vector_of(const json& v) { return Eigen::Vector3d(v[0].get<double>(), v[1].get<double>(), v[2].get<double>()); }
+
+TEST(Scene, ShapesReadAsWritten) {
+  const json s = with_shapes();
+  const Mechanism m = parse_scene(s, "scene.json");
+  ASSERT_EQ(m.bodies[0].shapes.size(), 2u);
+  ASSERT_EQ(m.bodies[1].shapes.size(), 2u);
+  ASSERT_EQ(m.bodies[2].shapes.size(), 1u);
+  EXPECT_TRUE(m.bodies[3].shapes.empty()) << "no \"shapes\": none";
+  const json& ground = s["bodies"][0]["shapes"];
+  const json& b1 = s["bodies"][1]["shapes"];
+  const json& b2 = s["bodies"][2]["shapes"];
+
+  const Shape& plane = m.bodies[0].shapes[0];
+  EXPECT_EQ(plane.type, ShapeType::plane);
+  EXPECT_EQ(plane.position, vector_of(ground[0]["position"]));
+  EXPECT_EQ(plane.normal, vector_of(ground[0]["normal"]).normalized()) << "normalized";
+  EXPECT_EQ(plane.normal, Eigen::Vector3d(0, 1, 0));
+  EXPECT_EQ(plane.friction, ground[0]["friction"].get<double>());
+  EXPECT_EQ(plane.restitution, ground[0]["restitution"].get<double>());
+
+  const Shape& ground_box = m.bodies[0].shapes[1];
+  EXPECT_EQ(ground_box.type, ShapeType::box);
+  EXPECT_EQ(ground_box.position, vector_of(ground[1]["position"]));
+  EXPECT_EQ(ground_box.half_extents, vector_of(ground[1]["half_extents"]));
+  EXPECT_EQ(ground_box.contype, ground[1]["contype"].get<uint32_t>());
+  EXPECT_EQ(ground_box.conaffinity, ground[1]["conaffinity"].get<uint32_t>());
+
+  // every default (physics/shape.h): the body's own pose, friction 0.5, restitution 0, filter 1/1
+  const Shape& sphere = m.bodies[1].shapes[0];
+  EXPECT_EQ(sphere.type, ShapeType::sphere);
+  EXPECT_EQ(sphere.radius, b1[0]["radius"].get<double>());
+  EXPECT_EQ(sphere.position, Eigen::Vector3d::Zero());
+  EXPECT_EQ(sphere.orientation.coeffs(), Eigen::Quaterniond::Identity().coeffs());
+  EXPECT_EQ(sphere.friction, 0.5);
+  EXPECT_EQ(sphere.restitution, 0);
+  EXPECT_EQ(sphere.contype, 1u);
+  EXPECT_EQ(sphere.conaffinity, 1u);
+
+  const Shape& capsule = m.bodies[1].shapes[1];
+  EXPECT_EQ(capsule.type, ShapeType::capsule);
+  EXPECT_EQ(capsule.position, vector_of(b1[1]["position"]));
+  const json& q = b1[1]["orientation"];  // [w, x, y, z], unit already
+  EXPECT_EQ(capsule.orientation.coeffs(),
+            Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>()).coeffs());
+  EXPECT_EQ(capsule.radius, b1[1]["radius"].get<double>());
+  EXPECT_EQ(capsule.half_length, b1[1]["half_length"].get<double>());
+  EXPECT_EQ(capsule.friction, b1[1]["friction"].get<double>());
+  EXPECT_EQ(capsule.restitution, b1[1]["restitution"].get<double>());
+  EXPECT_EQ(capsule.contype, b1[1]["contype"].get<uint32_t>());
+  EXPECT_EQ(capsule.conaffinity, b1[1]["conaffinity"].get<uint32_t>());
+
+  const Shape& box = m.bodies[2].shapes[0];
+  EXPECT_EQ(box.half_extents, vector_of(b2[0]["half_extents"]));
+  EXPECT_EQ(box.orientation.coeffs(), Eigen::Quaterniond::Identity().coeffs()) << "[2, 0, 0, 0] normalised";
+
+  // "collide": as given, false by default
+  for (size_t i = 0; i < m.constraints.size(); ++i)
+    EXPECT_EQ(m.constraints[i].collide, s["constraints"][i].value("collide", false)) << i;
+  EXPECT_TRUE(m.constraints[1].collide);
+}
+
 // ---- round trips ----
 
 TEST(Scene, RoundTripThroughJsonReproducesEveryBodyAndConstraint) {
@@ -306,8 +385,59 @@ TEST(Scene, LoadsReadAsWrittenAndRoundTrip) {
   }
 }
 
+// every_type() with shapes on a static and on moving bodies, and two constraints that collide.
+Mechanism every_type_with_shapes() {
+  Mechanism m = every_type();
+  Shape plane;
+  plane.type = ShapeType::plane;
+  plane.position = Eigen::Vector3d(0.1, -3, 0.2);
+  plane.normal = Eigen::Vector3d(0.1, 1, -0.2).normalized();
+  plane.friction = 0.9;
+  Shape sphere;
+  sphere.radius = 0.25;
+  sphere.restitution = 0.3;
+  sphere.contype = 3;
+  Shape capsule;
+  capsule.type = ShapeType::capsule;
+  capsule.position = Eigen::Vector3d(1.0 / 3, 0, -0.1);
+  capsule.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, -1, 2).normalized()));
+  capsule.radius = 0.04;
+  capsule.half_length = 0.35;
+  capsule.conaffinity = 0xffffffffu;
+  Shape box;
+  box.type = ShapeType::box;
+  box.half_extents = Eigen::Vector3d(0.5, 0.1, 2.5);
+  box.orientation = Eigen::Quaterniond(0.8, 0.1, 0.2, -0.3).normalized();
+  m.bodies[0].shapes = {plane, box};
+  m.bodies[1].shapes = {sphere};
+  m.bodies[4].shapes = {capsule, box, sphere};
+  m.bodies.back().shapes = {box};
+  m.constraints[1].collide = true;
+  m.constraints[6].collide = true;
+  return m;
+}
+
+TEST(Scene, RoundTripOfShapesAndCollide) {
+  const Mechanism m = every_type_with_shapes();
+  const json j = scene_to_json(m);
+  EXPECT_FALSE(j["bodies"][2].contains("shapes")) << "no shapes: left out";
+  EXPECT_EQ(j["constraints"][1]["collide"], true);
+  EXPECT_FALSE(j["constraints"][0].contains("collide")) << "false: left out";
+  expect_same(parse_scene(j, "round trip"), m, 1e-15);
+  const std::string path = temp_path("shapes.json");
+  save_scene(m, path);
+  const Mechanism back = load_scene(path);
+  expect_same(back, m, 1e-15);
+  // body-frame numbers written as the shortest text that reads back: the sizes exactly
+  EXPECT_EQ(back.bodies[4].shapes[0].radius, 0.04);
+  EXPECT_EQ(back.bodies[4].shapes[0].position, m.bodies[4].shapes[0].position);
+  // and a file's shapes read, written and read again
+  const Mechanism read = parse_scene(with_shapes(), "scene.json");
+  expect_same(parse_scene(scene_to_json(read), "scene.json"), read, 1e-15);
+}
+
 TEST(Scene, SavedFileHasOneLinePerBodyAndConstraint) {
-  const Mechanism m = every_type();
+  const Mechanism m = every_type_with_shapes();  // shapes stay on their body's line
   const std::string path = temp_path("lines.json");
   save_scene(m, path);
   std::ifstream in(path);
@@ -523,6 +653,141 @@ TEST(SceneBadInput, MissingRequiredField) {
     s[p.parent_pointer()].erase(p.back());
     expect_error(s, entry.empty() ? "" : entry[0], {std::string("missing \"") + p.back() + "\""});
   }
+}
+
+// ---- bad shapes (physics/shape.h: shape_problem): one test per kind ----
+
+const std::string kB1Shape = "bodies[1] (\"b1\"): shapes[0]";
+
+// valid() with one shape on b1 (or on the static ground).
+json with_shape(const json& shape, int body = 1) {
+  json s = valid();
+  s["bodies"][body]["shapes"] = json::array({shape});
+  return s;
+}
+
+TEST(SceneBadInput, ShapeNonPositiveRadius) {
+  EXPECT_EQ(error_of(with_shape({{"type", "sphere"}, {"radius", -1}})),
+            "scene.json: bodies[1] (\"b1\"): shapes[0]: radius -1 is not in (0, 1e9] m");
+  expect_error(with_shape({{"type", "capsule"}, {"radius", 0}, {"half_length", 1}}), kB1Shape, {"radius 0 is not in (0, 1e9] m"});
+  expect_error(with_shape({{"type", "capsule"}, {"radius", 0.1}, {"half_length", -0.5}}), kB1Shape,
+               {"half_length -0.5 is not in [0, 1e9] m"});
+  expect_error(with_shape({{"type", "sphere"}, {"radius", 2e9}}), kB1Shape, {"radius 2e+09 is not in (0, 1e9] m"});
+  // a capsule of half length 0 is a sphere: allowed
+  EXPECT_NO_THROW(parse_scene(with_shape({{"type", "capsule"}, {"radius", 0.1}, {"half_length", 0}}), "scene.json"));
+}
+
+TEST(SceneBadInput, ShapeZeroHalfExtent) {
+  expect_error(with_shape({{"type", "box"}, {"half_extents", {0.1, 0, 0.1}}}), kB1Shape,
+               {"half_extents component 0 is not in (0, 1e9] m"});
+  expect_error(with_shape({{"type", "box"}, {"half_extents", {0.1, 0.1, -3}}}), kB1Shape, {"half_extents component -3"});
+}
+
+TEST(SceneBadInput, PlaneOnADynamicBody) {
+  const json plane = {{"type", "plane"}, {"normal", {0, 1, 0}}};
+  expect_error(with_shape(plane), kB1Shape, {"a plane on a dynamic body"});
+  EXPECT_NO_THROW(parse_scene(with_shape(plane, 0), "scene.json"));  // on the static ground
+}
+
+TEST(SceneBadInput, PlaneWithZeroNormal) {
+  expect_error(with_shape({{"type", "plane"}, {"normal", {0, 0, 0}}}, 3), "bodies[3] (\"wall\"): shapes[0]",
+               {"normal of length 0"});
+  expect_error(with_shape({{"type", "plane"}, {"normal", {1e-13, 0, 0}}}, 0), "bodies[0] (\"ground\"): shapes[0]",
+               {"normal of length 1e-13"});
+}
+
+TEST(SceneBadInput, ShapeRestitutionOrFrictionOutOfRange) {
+  expect_error(with_shape({{"type", "sphere"}, {"radius", 1}, {"restitution", 2}}), kB1Shape,
+               {"restitution 2 is not in [0, 1]"});
+  expect_error(with_shape({{"type", "sphere"}, {"radius", 1}, {"restitution", -0.5}}), kB1Shape, {"restitution -0.5"});
+  expect_error(with_shape({{"type", "sphere"}, {"radius", 1}, {"friction", -0.1}}), kB1Shape,
+               {"friction -0.1 is not finite and >= 0"});
+}
+
+TEST(SceneBadInput, ShapeNonFiniteNumber) {
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  expect_error(with_shape({{"type", "sphere"}, {"radius", nan}}), kB1Shape, {"radius must be finite"});
+  expect_error(with_shape({{"type", "sphere"}, {"radius", 1}, {"friction", inf}}), kB1Shape, {"friction must be finite"});
+  expect_error(with_shape({{"type", "box"}, {"half_extents", {1, nan, 1}}}), kB1Shape, {"half_extents must be finite"});
+  expect_error(with_shape({{"type", "plane"}, {"normal", {0, -inf, 0}}}, 0), "bodies[0] (\"ground\"): shapes[0]",
+               {"normal must be finite"});
+  expect_error(with_shape({{"type", "sphere"}, {"radius", 1}, {"position", {nan, 0, 0}}}), kB1Shape, {"position must be finite"});
+  // in a file: a number too large for a double, refused where it stands
+  std::string text = with_shape({{"type", "sphere"}, {"radius", 7}}).dump(1);
+  text.replace(text.find("\"radius\": 7"), 11, "\"radius\": 1e999");
+  const std::string path = temp_file("scene.json", text);
+  const std::string message = file_error_of(path);
+  EXPECT_NE(message.find(": number 1e999 is out of the range of a double"), std::string::npos) << message;
+}
+
+TEST(SceneBadInput, ShapeWrongJsonType) {
+  expect_error(with_shape({{"type", "sphere"}, {"radius", "big"}}), kB1Shape, {"radius must be a number, got \"big\""});
+  expect_error(with_shape({{"type", "capsule"}, {"radius", 1}, {"half_length", true}}), kB1Shape, {"half_length must be a number"});
+  expect_error(with_shape({{"type", "box"}, {"half_extents", 1}}), kB1Shape, {"half_extents must be an array of 3 numbers"});
+  expect_error(with_shape({{"type", "sphere"}, {"radius", 1}, {"orientation", {1, 0, 0}}}), kB1Shape,
+               {"orientation must be an array of 4 numbers"});
+  expect_error(with_shape({{"type", 3}, {"radius", 1}}), kB1Shape, {"type must be a string"});
+  expect_error(with_shape("sphere"), kB1Shape, {"a shape must be a JSON object, got \"sphere\""});
+  for (const json& filter : {json(-1), json(1.5), json(4294967296), json("1")}) {
+    expect_error(with_shape({{"type", "sphere"}, {"radius", 1}, {"contype", filter}}), kB1Shape,
+                 {"contype must be an integer in [0, 4294967295], got " + filter.dump()});
+    expect_error(with_shape({{"type", "sphere"}, {"radius", 1}, {"conaffinity", filter}}), kB1Shape,
+                 {"conaffinity must be an integer in [0, 4294967295]"});
+  }
+}
+
+TEST(SceneBadInput, ShapeZeroOrientation) {
+  expect_error(with_shape({{"type", "box"}, {"half_extents", {1, 1, 1}}, {"orientation", {0, 0, 0, 0}}}), kB1Shape,
+               {"orientation must be a non-zero quaternion"});
+}
+
+TEST(SceneBadInput, UnknownShapeType) {
+  expect_error(with_shape({{"type", "cylinder"}, {"radius", 1}}), kB1Shape,
+               {"unknown shape type \"cylinder\"", "plane, sphere, capsule, box"});
+}
+
+TEST(SceneBadInput, ShapeKeyForeignToItsType) {
+  expect_error(with_shape({{"type", "box"}, {"half_extents", {1, 1, 1}}, {"radius", 1}}), kB1Shape,
+               {"unknown key \"radius\"", "a box shape has:", "half_extents"});
+  expect_error(with_shape({{"type", "sphere"}, {"radius", 1}, {"half_length", 1}}), kB1Shape,
+               {"unknown key \"half_length\"", "a sphere shape"});
+  expect_error(with_shape({{"type", "capsule"}, {"radius", 1}, {"half_length", 1}, {"normal", {0, 0, 1}}}), kB1Shape,
+               {"unknown key \"normal\"", "a capsule shape"});
+  expect_error(with_shape({{"type", "plane"}, {"normal", {0, 1, 0}}, {"half_extents", {1, 1, 1}}}, 0),
+               "bodies[0] (\"ground\"): shapes[0]", {"unknown key \"half_extents\"", "a plane shape"});
+  // a plane's direction is its normal: an orientation on it would be ignored
+  expect_error(with_shape({{"type", "plane"}, {"normal", {0, 1, 0}}, {"orientation", {1, 0, 0, 0}}}, 0),
+               "bodies[0] (\"ground\"): shapes[0]", {"unknown key \"orientation\"", "a plane shape"});
+  // and a typo is no default
+  expect_error(with_shape({{"type", "sphere"}, {"radius", 1}, {"fricton", 1}}), kB1Shape, {"unknown key \"fricton\""});
+}
+
+TEST(SceneBadInput, ShapeMissingRequiredKey) {
+  expect_error(with_shape({{"type", "sphere"}}), kB1Shape, {"missing \"radius\""});
+  expect_error(with_shape({{"type", "capsule"}, {"radius", 1}}), kB1Shape, {"missing \"half_length\""});
+  expect_error(with_shape({{"type", "capsule"}, {"half_length", 1}}), kB1Shape, {"missing \"radius\""});
+  expect_error(with_shape({{"type", "box"}}), kB1Shape, {"missing \"half_extents\""});
+  expect_error(with_shape({{"type", "plane"}}, 0), "bodies[0] (\"ground\"): shapes[0]", {"missing \"normal\""});
+  expect_error(with_shape({{"radius", 1}}), kB1Shape, {"missing \"type\""});
+}
+
+TEST(SceneBadInput, ShapesNotAnArray) {
+  json s = valid();
+  s["bodies"][2]["shapes"] = {{"type", "sphere"}, {"radius", 1}};
+  expect_error(s, "bodies[2] (\"b2\")", {"shapes must be an array, got {"});
+  s["bodies"][2]["shapes"] = "sphere";
+  expect_error(s, "bodies[2] (\"b2\")", {"shapes must be an array"});
+  // the index names the shape at fault
+  s["bodies"][2]["shapes"] = {{{"type", "sphere"}, {"radius", 1}}, {{"type", "sphere"}, {"radius", 0}}};
+  expect_error(s, "bodies[2] (\"b2\"): shapes[1]", {"radius 0"});
+}
+
+TEST(SceneBadInput, CollideNotABoolean) {
+  json s = valid();
+  s["constraints"][1]["collide"] = "yes";
+  expect_error(s, "constraints[1]", {"collide must be true or false, got \"yes\""});
+  s["constraints"][1]["collide"] = 1;
+  expect_error(s, "constraints[1]", {"collide must be true or false"});
 }
 
 TEST(SceneBadInput, UnknownTopLevelKey) {
