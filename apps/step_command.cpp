@@ -85,7 +85,7 @@ void write_contact_rows(std::ofstream& out, int step, const Simulation& sim) {
     out << step << ',' << sim.time() << ',' << m.bodies[c.body_a].name << ',' << m.bodies[c.body_b].name << ','
         << p.position.x() << ',' << p.position.y() << ',' << p.position.z() << ',' << p.normal.x() << ','
         << p.normal.y() << ',' << p.normal.z() << ',' << p.depth << ',' << c.impulse[0] << ',' << c.impulse[1] << ','
-        << c.impulse[2] << '\n';
+        << c.impulse[2] << ',' << (c.factored ? 1 : 0) << '\n';
   }
 }
 
@@ -120,7 +120,7 @@ int run_step(const StepArgs& a) {
   if (!a.contacts_file.empty()) {
     contacts_out.open(a.contacts_file);
     if (!contacts_out) throw InputError(a.contacts_file + ": cannot write the contacts file");
-    contacts_out << "step,time,body_a,body_b,x,y,z,nx,ny,nz,depth_m,impulse_normal,impulse_t1,impulse_t2\n";
+    contacts_out << "step,time,body_a,body_b,x,y,z,nx,ny,nz,depth_m,impulse_normal,impulse_t1,impulse_t2,factored\n";
     contacts_out.precision(17);
   }
   std::ofstream trace;
@@ -328,7 +328,7 @@ Command add_step_command(CLI::App& app) {
   add_alias(cmd, "--trace", &a->trace);
   cmd->add_option("--contacts-file", a->contacts_file,
                   "Write per step and contact point: step,time,body_a,body_b,x,y,z,nx,ny,nz,depth_m,impulse_normal,"
-                  "impulse_t1,impulse_t2 (CSV; the normal from body a into b, impulses in N s)");
+                  "impulse_t1,impulse_t2,factored (CSV; the normal from body a into b, impulses in N s; factored: in the LDL^T)");
   cmd->add_option("--friction-cone", a->friction_cone, "Friction bound of contacts: disk (|lambda_t| <= mu lambda_n) or pyramid (per row)")
       ->capture_default_str();
   cmd->add_option("--factor-contacts-after", a->factor_contacts_after,

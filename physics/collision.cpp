@@ -26,6 +26,17 @@ struct GeomOwner {
   int body = -1, shape = -1;
 };
 
+// The farthest point of a shape from its body's centre of mass (m; a plane: 0, it is static).
+double reach(const Shape& s) {
+  switch (s.type) {
+    case ShapeType::plane: return 0;
+    case ShapeType::sphere: return s.position.norm() + s.radius;
+    case ShapeType::capsule: return s.position.norm() + s.half_length + s.radius;
+    case ShapeType::box: return s.position.norm() + s.half_extents.norm();
+  }
+  return 0;
+}
+
 }  // namespace
 
 struct CollisionWorld::Geometry {
@@ -33,6 +44,8 @@ struct CollisionWorld::Geometry {
   std::vector<dGeomID> geoms;       // (size shapes)
   std::vector<GeomOwner> owners;    // the body and shape of each geom (size shapes)
   std::vector<std::pair<int, int>> excluded;  // body pairs (low, high) that may not touch, sorted
+  std::vector<double> reach;        // each body's farthest shape point from its centre (size bodies)
+  std::vector<double> margin;       // this pass's inflation of each body's shapes (size bodies)
   const Mechanism* mechanism = nullptr;  // during detect()
   std::vector<ContactPoint>* out = nullptr;
 
@@ -57,9 +70,20 @@ dGeomID make_geom(dSpaceID space, const Shape& s) {
   return nullptr;
 }
 
-// The geom at its body's current pose: world pose = body pose * shape pose; a plane as
-// n . x = n . p in the world (ODE's planes are not placeable).
-void place(dGeomID g, const Shape& s, const RigidBody& body) {
+// The geom at its body's current pose, inflated by `margin`: world pose = body pose * shape pose;
+// a plane as n . x = n . p in the world (ODE's planes are not placeable; a static body's margin
+// is 0).
+void place(dGeomID g, const Shape& s, const RigidBody& body, double margin) {
+  switch (s.type) {
+    case ShapeType::plane: break;
+    case ShapeType::sphere: dGeomSphereSetRadius(g, s.radius + margin); break;
+    case ShapeType::capsule: dGeomCapsuleSetParams(g, s.radius + margin, 2 * s.half_length); break;
+    case ShapeType::box: {
+      const Eigen::Vector3d l = 2 * (s.half_extents.array() + margin).matrix();
+      dGeomBoxSetLengths(g, l.x(), l.y(), l.z());
+      break;
+    }
+  }
   if (s.type == ShapeType::plane) {
     const Eigen::Vector3d n = (body.orientation * s.normal).normalized();
     dGeomPlaneSetParams(g, n.x(), n.y(), n.z(), n.dot(body.to_world(s.position)));
@@ -89,6 +113,7 @@ void near_callback(void* data, dGeomID o1, dGeomID o2) {
   const int n = dCollide(o1, o2, kMaxPointsPerPair, points, sizeof(dContactGeom));
   const bool flip = x.body < y.body;  // then a = o1's body and the normal is ODE's reversed
   const GeomOwner &a = flip ? x : y, &b = flip ? y : x;
+  const double ma = g.margin[a.body], mb = g.margin[b.body];
   for (int i = 0; i < n; ++i) {
     const dContactGeom& c = points[i];
     ContactPoint p;
@@ -96,10 +121,12 @@ void near_callback(void* data, dGeomID o1, dGeomID o2) {
     p.shape_a = a.shape;
     p.body_b = b.body;
     p.shape_b = b.shape;
-    p.position = Eigen::Vector3d(c.pos[0], c.pos[1], c.pos[2]);
     p.normal = Eigen::Vector3d(c.normal[0], c.normal[1], c.normal[2]);
     if (flip) p.normal = -p.normal;
-    p.depth = c.depth;
+    // The inflated surfaces overlap by c.depth about c.pos; the real ones lie ma and mb behind
+    // them: their depth is c.depth - ma - mb, about the point midway between them.
+    p.depth = c.depth - ma - mb;
+    p.position = Eigen::Vector3d(c.pos[0], c.pos[1], c.pos[2]) + 0.5 * (mb - ma) * p.normal;
     g.out->push_back(p);
   }
 }
@@ -122,6 +149,10 @@ CollisionWorld::CollisionWorld(const Mechanism& m) : geometry_(std::make_unique<
       g.geoms.push_back(geom);
       g.owners.push_back({b, s});
     }
+  g.reach.assign(m.bodies.size(), 0.0);
+  g.margin.assign(m.bodies.size(), 0.0);
+  for (size_t b = 0; b < m.bodies.size(); ++b)
+    for (const Shape& s : m.bodies[b].shapes) g.reach[b] = std::max(g.reach[b], reach(s));
   for (const Constraint& c : m.constraints)
     if (!c.collide) g.excluded.emplace_back(std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b));
   std::sort(g.excluded.begin(), g.excluded.end());
@@ -133,11 +164,17 @@ CollisionWorld& CollisionWorld::operator=(CollisionWorld&&) noexcept = default;
 
 bool CollisionWorld::empty() const { return geometry_->geoms.empty(); }
 
-void CollisionWorld::detect(const Mechanism& m, std::vector<ContactPoint>* out) {
+void CollisionWorld::detect(const Mechanism& m, double margin, double horizon, std::vector<ContactPoint>* out) {
   init_ode();
   Geometry& g = *geometry_;
   out->clear();
   if (g.geoms.empty()) return;
+  // what a body's points can travel in the horizon: |v| + |w| reach, plus gravity's |g| horizon
+  for (size_t b = 0; b < m.bodies.size(); ++b) {
+    const RigidBody& body = m.bodies[b];
+    const double speed = body.linear_velocity.norm() + body.angular_velocity.norm() * g.reach[b] + m.gravity.norm() * horizon;
+    g.margin[b] = body.is_static ? 0 : margin + speed * horizon;
+  }
   for (size_t i = 0; i < g.geoms.size(); ++i) {
     const RigidBody& body = m.bodies[g.owners[i].body];
     // A body outside the mechanism's ranges (a run that came apart) touches nothing: ODE's hash
@@ -149,7 +186,7 @@ void CollisionWorld::detect(const Mechanism& m, std::vector<ContactPoint>* out) 
       continue;
     }
     dGeomEnable(g.geoms[i]);
-    place(g.geoms[i], body.shapes[g.owners[i].shape], body);
+    place(g.geoms[i], body.shapes[g.owners[i].shape], body, g.margin[g.owners[i].body]);
   }
   g.mechanism = &m;
   g.out = out;

@@ -13,8 +13,9 @@
 
 namespace ldlpgs {
 
-// One point where two shapes touch. The normal points from body a into body b (moving b along
-// it separates them); depth > 0 is the penetration (m). The points of a pair come together.
+// One point where two shapes touch or may touch within the step (a speculative contact). The
+// normal points from body a into body b (moving b along it separates them); depth > 0 is the
+// penetration (m), depth < 0 the gap. The points of a pair come together.
 struct ContactPoint {
   int body_a = -1, body_b = -1;
   int shape_a = -1, shape_b = -1;  // indices into each body's shapes
@@ -35,8 +36,11 @@ class CollisionWorld {
   CollisionWorld& operator=(CollisionWorld&&) noexcept;
 
   // The contact points at the bodies' current poses into `out` (cleared first; its storage is
-  // reused, so a step allocates nothing once the largest count has been seen).
-  void detect(const Mechanism& mechanism, std::vector<ContactPoint>* out);
+  // reused, so a step allocates nothing once the largest count has been seen): the pairs that
+  // touch, and those whose gap is below `margin` (m) plus what each body's points can travel in
+  // `horizon` (s) at its current velocities and gravity's pull (speculative contacts, Catto's:
+  // a fast body is stopped at the surface instead of being found inside it a step late).
+  void detect(const Mechanism& mechanism, double margin, double horizon, std::vector<ContactPoint>* out);
   bool empty() const;  // no shapes at all
 
   struct Geometry;  // ODE's space and geoms (collision.cpp)

@@ -89,7 +89,9 @@ void make_contacts(const Mechanism& m, std::span<const ContactPoint> points, std
     const Contact* best = nullptr;
     double best_distance = match_distance;
     for (auto it = first; it != last; ++it) {
-      const double distance = (previous[*it].anchor_a - c.anchor_a).norm();
+      // along the contact plane only: where a detector puts a point across the gap varies
+      const Vector3d diff = previous[*it].anchor_a - c.anchor_a, n = c.frame_a.col(2);
+      const double distance = (diff - n.dot(diff) * n).norm();
       if (distance <= best_distance) {
         best_distance = distance;
         best = &previous[*it];

@@ -2,7 +2,8 @@
 // Contacts: the inequality rows of a step where two shapes touch. Each contact point gives a
 // normal row, impulse >= 0, and two friction rows bounded by mu times the normal impulse (a disk,
 // or the pyramid |lambda_t| <= mu lambda_n per row). Points are matched from one step to the
-// next (same bodies and shapes, nearest anchor within ContactOptions::match_distance) so that
+// next (same bodies and shapes, nearest anchor on body a within ContactOptions::match_distance
+// along the contact plane) so that
 // their impulses warm-start the solver.
 #include <array>
 #include <span>
@@ -19,6 +20,9 @@ struct ContactOptions {
   // Penetration left in place (m): the position correction stops there, so that a resting
   // contact keeps touching and is found again next step (Box2D's linear slop).
   double slop = 0.005;
+  // Speculative contacts: pairs closer than this (m), plus what their points travel in a step,
+  // become contacts whose normal row lets the gap close and no more (collision.h).
+  double margin = 0.01;
   // Velocity-level correction of the penetration beyond the slop, a fraction per step
   // (Baumgarte), at most max_correction_speed (m/s); the post-stabilization removes the rest
   // without adding velocity (papers/physics.md, "Contacts").
@@ -31,11 +35,20 @@ struct ContactOptions {
   // ldl-pgs: a contact pushing (positive normal impulse) for this many steps in a row joins the
   // LDL block with its normal row (RowBlock::factored); 0: never, the talk's schedule.
   int factor_after = 2;
-  // The regularization of a factored normal row (RowBlock::regularization): a manifold's points
-  // are redundant (4 rows, 3 degrees of freedom), and it bounds what the exact solve puts in
-  // their null space when a projection has left the right-hand side outside J's range, without
-  // softening the contact.
-  double regularization = 1e-4;
+  // ... also on a body that an equality constraint holds. Off: such a contact and the joints
+  // are often redundant (a chain lying on the ground), H singular on them with inconsistent
+  // targets, and the exact solve blew up the chain of papers/physics.md, "Contacts in the
+  // factor"; those contacts stay PGS rows (the talk's schedule).
+  bool factor_jointed = false;
+  // A factored normal row's regularization and compliance (RowBlock::regularization, System::
+  // compliance): a manifold's points are redundant (4 rows, 3 degrees of freedom), and so are
+  // contacts and joints holding the same body, so H is singular on them; what the exact solve
+  // puts in that null space, when a projection has left the right-hand side outside J's range,
+  // is that part divided by the compliance. The compliance softens the contact (a velocity
+  // error of eps H_ii lambda); the regularization damps each step without softening it.
+  // Chosen by measurement (papers/physics.md, "Contacts in the factor").
+  double regularization = 1e-3;
+  double compliance = 1e-6;
 };
 
 struct Contact {

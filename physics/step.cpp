@@ -229,7 +229,10 @@ Simulation::Simulation(Mechanism mechanism, const StepOptions& options)
       load_(6 * mechanism_.bodies.size(), 0.0),
       saved_position_(mechanism_.bodies.size()),
       saved_orientation_(mechanism_.bodies.size()),
-      joint_blocks_(static_cast<int>(mechanism_.constraints.size())) {
+      joint_blocks_(static_cast<int>(mechanism_.constraints.size())),
+      jointed_(mechanism_.bodies.size(), 0) {
+  for (const Constraint& c : mechanism_.constraints)
+    if (is_equality(c.type)) jointed_[c.body_a] = jointed_[c.body_b] = 1;
   if (has_shapes(mechanism_)) {
     if (options.solver.kind == SolverKind::direct)
       throw InputError("the direct solver takes no contacts and bodies have shapes (use ldl-pgs)");
@@ -357,11 +360,13 @@ bool Simulation::post_stabilize(StepReport* report) {
 // contacts is the same blocks and its symbolic phase is reused (solver.h).
 void Simulation::detect_contacts() {
   const ContactOptions& o = options_.contacts;
-  collision_->detect(mechanism_, &points_);
+  collision_->detect(mechanism_, o.margin, mechanism_.timestep, &points_);
   std::swap(contacts_, previous_contacts_);
   make_contacts(mechanism_, points_, previous_contacts_, o.match_distance, &contact_order_, &contacts_);
   const bool factoring = options_.solver.kind == SolverKind::ldl_pgs && o.factor_after > 0;
-  for (Contact& c : contacts_) c.factored = factoring && c.pushing_steps >= o.factor_after;
+  for (Contact& c : contacts_)
+    c.factored = factoring && c.pushing_steps >= o.factor_after &&
+                 (o.factor_jointed || !(jointed_[c.body_a] || jointed_[c.body_b]));
   // Factored contacts first, in the order of their bodies, so that the same set of touching
   // pairs is the same blocks whatever order the detector found them in.
   // (std::sort on a total order: stable_sort would allocate its buffer every step)
@@ -416,6 +421,7 @@ double Simulation::contact_rows(bool velocity, bool with_jacobian) {
     }
     const int in = system_.blocks[kn].position, if0 = system_.blocks[kf].position;
     system_.blocks[kn].regularization = con.factored ? o.regularization : 0;
+    if (con.factored) system_.compliance[in] = o.compliance;
     if (!velocity) {
       system_.blocks[kf].friction = 0;
       system_.rhs[in] = -(rows.c[0] + o.slop);
@@ -442,11 +448,13 @@ double Simulation::contact_rows(bool velocity, bool with_jacobian) {
     const double separation = rows.c[0];
     double target = 0;
     if (con.factored) {
-      // In the LDL block the targets of a manifold's points must be consistent (in the range of
-      // J): J V = t is solved exactly, and a part of t outside the range (a clamp, a threshold)
-      // is divided by the compliance alone. The post-stabilization corrects the depth; without
-      // it, an affine Baumgarte term.
-      if (options_.post_stabilize == 0) target = -o.baumgarte * (separation + o.slop) / dt;
+      // In the LDL block the targets must be consistent (in the range of J): J V = t is solved
+      // exactly, and a part of t outside the range (a clamp, a threshold) is divided by the
+      // compliance alone. The joints' Baumgarte term, -beta c / dt, is affine in c; so is this
+      // one, with the same beta and no slop, so that contacts and joints ask the same motion of a
+      // body that both hold (a chain lying on the ground). (The speculative margin keeps a
+      // contact pushed out to zero depth in the detector's view.)
+      target = 0;
     } else {
       target = separation > 0 ? -separation / dt
                               : std::min(o.baumgarte * std::max(0.0, -separation - o.slop) / dt, o.max_correction_speed);

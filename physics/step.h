@@ -203,6 +203,7 @@ class Simulation {
   int64_t post_stabilize_rejected_ = 0;
   // Contacts: system_'s blocks past the constraints', two per contact (normal, friction).
   int joint_blocks_ = 0;
+  std::vector<char> jointed_;                  // the body has an equality constraint (size bodies)
   std::unique_ptr<CollisionWorld> collision_;  // null while no body has a shape
   std::vector<ContactPoint> points_;           // detected this step
   std::vector<Contact> contacts_, previous_contacts_;

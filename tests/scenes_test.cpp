@@ -9,6 +9,8 @@
 //   build/tests/scenes_test --gtest_also_run_disabled_tests --gtest_filter='*WriteSceneFiles'
 #include "ldlpgs/physics/scenes.h"
 
+#include "ldlpgs/physics/collision.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -132,13 +134,15 @@ TEST(Scenes, EveryBuiltinIsBuiltUnderItsName) {
   const std::vector<std::string> names = builtin_scene_names();
   EXPECT_EQ(names, (std::vector<std::string>{"pendulum", "chain-10", "heavy-chain-10-1000", "ragdoll", "four-bar",
                                               "rope-bridge", "tracked-vehicle", "multi-wheeled-vehicle",
-                                              "mechanism-50", "driven-crank"}));
+                                              "mechanism-50", "driven-crank", "box-stack-1000", "pyramid-10",
+                                              "ball-chain-20-1000"}));
   for (const std::string& name : names) {
     const Mechanism m = builtin(name);
     EXPECT_EQ(m.name, name);
     // the driven crank has gravity off: its torque is its only load (scenes.cpp)
     EXPECT_EQ(m.gravity, name == "driven-crank" ? Eigen::Vector3d::Zero() : Eigen::Vector3d(0, -9.81, 0)) << name;
-    EXPECT_EQ(m.timestep, 0.01) << name;
+    // the scenes with contacts step at 1/60 s, as the engines they are compared with
+    EXPECT_EQ(m.timestep, has_shapes(m) ? 1.0 / 60 : 0.01) << name;
   }
 }
 
@@ -207,6 +211,9 @@ TEST(Scenes, CountsAreAsDesigned) {
       {"multi-wheeled-vehicle", {21, 21, 20, 88, 88}},
       {"mechanism-50", {34, 33, 50, 246, 246}},  // 48 hinges, 2 balls (the talk's size)
       {"driven-crank", {4, 3, 4, 20, 20}},       // 3 hinges, a prismatic
+      {"box-stack-1000", {3, 2, 0, 0, 0}},       // the ground and two cubes: contacts only
+      {"pyramid-10", {56, 55, 0, 0, 0}},
+      {"ball-chain-20-1000", {23, 21, 21, 63, 63}},  // ground, pivot, 20 links and the ball on 21 balls
   };
   for (const std::string& name : builtin_scene_names()) {
     const Mechanism m = builtin(name);

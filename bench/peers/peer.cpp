@@ -36,6 +36,10 @@ PeerResult run_ours(const Mechanism& m, double seconds, SolverKind kind, const s
                 to_string(m.constraints[i].type);
     return r;
   }
+  if (kind == SolverKind::direct && has_shapes(m)) {
+    r.skipped = engine + " solves equality constraints only; bodies have shapes (contacts)";
+    return r;
+  }
   StepOptions options;
   options.solver.kind = kind;
   options.post_stabilize = post_stabilize;
