@@ -13,6 +13,7 @@
 
 #include "ldlpgs/physics/collision.h"
 #include "ldlpgs/physics/constraint.h"
+#include "ldlpgs/solver/solver.h"
 
 namespace ldlpgs {
 
@@ -40,6 +41,16 @@ struct ContactOptions {
   // targets, and the exact solve blew up the chain of papers/physics.md, "Contacts in the
   // factor"; those contacts stay PGS rows (the talk's schedule).
   bool factor_jointed = false;
+  // ldl-pgs's schedule on a step with contacts (SolverOptions::schedule on steps without): the
+  // talk's single block sweep after the PGS sweeps let a driven tracked vehicle's contact and
+  // joint impulses feed each other until it came apart; alternating the two converges
+  // (papers/physics.md, "Schedules with contacts").
+  HybridSchedule schedule = HybridSchedule::block_gs;
+  // ... and the post-stabilization's, with this many iterations (block sweeps: LDL^T solves
+  // with the step's factor), on a step with contacts: the inequality-pgs sweeps of a step
+  // without them left a falling humanoid's correction unconverged, undone, and a contact 6.1 mm
+  // deep against 5.1 (papers/physics.md, "Schedules with contacts").
+  int position_iterations = 10;
   // A factored normal row's regularization and compliance (RowBlock::regularization, System::
   // compliance): a manifold's points are redundant (4 rows, 3 degrees of freedom), and so are
   // contacts and joints holding the same body, so H is singular on them; what the exact solve

@@ -640,6 +640,62 @@ Mechanism ball_chain(const std::string& name, int n, double ratio) {
   return m;
 }
 
+// A vehicle of the talk standing on a ground plane, at rest, driven: every wheel `w` carries the
+// torque -torque z (forward, +x) and the chassis the reaction, as a motor between them would.
+// `ground_y` is where the ground touches the lowest shape (1 mm deep).
+Mechanism on_ground(Mechanism m, const std::string& name, double ground_y, double torque) {
+  m.name = name;
+  m.timestep = 1.0 / 60;
+  int wheels = 0;
+  for (RigidBody& b : m.bodies) {
+    b.linear_velocity = b.angular_velocity = Vector3d::Zero();
+    if (b.name.starts_with("wheel_") && !b.shapes.empty()) {
+      b.applied_torque = -torque * kZ;
+      ++wheels;
+    }
+  }
+  m.bodies[m.find_body("chassis")].applied_torque = wheels * torque * kZ;
+  const int ground = add_ground(&m);
+  m.bodies[ground].position = Vector3d(0, ground_y + 0.001, 0);
+  return m;
+}
+
+// The tracked vehicle on the ground: its track links are boxes (the links' length, 3 cm thick,
+// 20 cm wide) that touch the ground and the wheels but not each other (conaffinity 0); the four
+// wheels are spheres just inside the tracks, which keep the loops from folding under the load
+// (each wheel is hinged to one link, which it does not touch); 300 N m on each.
+Mechanism tracked_vehicle_on_ground() {
+  Mechanism m = tracked_vehicle();
+  for (RigidBody& b : m.bodies) {
+    if (b.name.starts_with("track_")) {
+      b.shapes.push_back(box_shape(Vector3d(0.15, 0.015, 0.1)));
+      b.shapes.back().conaffinity = 0;
+    } else if (b.name.starts_with("wheel_")) {
+      Shape s;
+      s.type = ShapeType::sphere;
+      s.radius = 0.27;
+      s.friction = kContactFriction;
+      b.shapes.push_back(s);
+    }
+  }
+  return on_ground(std::move(m), "tracked-vehicle-on-ground", 1.0 - 0.3 - 0.015, 300);
+}
+
+// The multi-wheeled vehicle on the ground: its 20 wheels are spheres of the wheels' radius,
+// friction 1; 100 N m on each.
+Mechanism multi_wheeled_vehicle_on_ground() {
+  Mechanism m = multi_wheeled_vehicle();
+  for (RigidBody& b : m.bodies)
+    if (b.name.starts_with("wheel_")) {
+      Shape s;
+      s.type = ShapeType::sphere;
+      s.radius = 0.28;
+      s.friction = 1;
+      b.shapes.push_back(s);
+    }
+  return on_ground(std::move(m), "multi-wheeled-vehicle-on-ground", 1.0 - 0.4 - 0.28, 100);
+}
+
 bool parse_count(std::string_view s, int* n) {
   if (s.empty() || s.size() > 6 || s[0] == '0') return false;
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), *n);
@@ -658,7 +714,8 @@ bool parse_ratio(std::string_view s, double* r) {
 std::vector<std::string> builtin_scene_names() {
   return {"pendulum", "chain-10", "heavy-chain-10-1000", "ragdoll", "four-bar",
           "rope-bridge", "tracked-vehicle", "multi-wheeled-vehicle", "mechanism-50", "driven-crank",
-          "box-stack-1000", "pyramid-10", "ball-chain-20-1000"};
+          "box-stack-1000", "pyramid-10", "ball-chain-20-1000", "tracked-vehicle-on-ground",
+          "multi-wheeled-vehicle-on-ground"};
 }
 
 bool builtin_scene(std::string_view name, Mechanism* mechanism) {
@@ -672,6 +729,10 @@ bool builtin_scene(std::string_view name, Mechanism* mechanism) {
     *mechanism = four_bar();
   } else if (name == "rope-bridge") {
     *mechanism = rope_bridge();
+  } else if (name == "tracked-vehicle-on-ground") {
+    *mechanism = tracked_vehicle_on_ground();
+  } else if (name == "multi-wheeled-vehicle-on-ground") {
+    *mechanism = multi_wheeled_vehicle_on_ground();
   } else if (name == "tracked-vehicle") {
     *mechanism = tracked_vehicle();
   } else if (name == "multi-wheeled-vehicle") {

@@ -18,6 +18,9 @@
 //   pyramid-L                L layers of unit cubes, L down to 1 (default 10: 55 cubes)
 //   ball-chain-N-R           N capsule links held horizontal from a pivot, a ball of R times a
 //                            link's mass on the end, released onto the ground (default 20-1000)
+//   tracked-vehicle-on-ground, multi-wheeled-vehicle-on-ground
+//                            the two vehicles at rest on the ground, a torque on every wheel
+//                            (its reaction on the chassis) driving them forward (+x)
 #include <string>
 #include <string_view>
 #include <vector>

@@ -338,6 +338,8 @@ bool Simulation::post_stabilize(StepReport* report) {
     // Without a factor of its own (pgs, block-gs) the projector factors once per step, at J_0.
     SolveResult r;
     if (refactor || (projector_ && it == 0)) r = solver.solve(system_, mu_, dv_);  // (sweeps: the projector's own)
+    else if (!contacts_.empty())
+      r = solver.resolve(system_, mu_, dv_, options_.contacts.position_iterations, options_.contacts.schedule);
     else r = solver.resolve(system_, mu_, dv_, sweeps, HybridSchedule::inequality_pgs);
     if (!r.ok()) return false;
     evaluated_valid_ = false;
@@ -526,7 +528,8 @@ StepReport Simulation::step() {
   }
   velocity_system();
   const auto solve_start = Clock::now();
-  report.result = solver_.solve(system_, lambda_, dv_);
+  report.result = solver_.solve(system_, lambda_, dv_,
+                                contacts_.empty() ? std::nullopt : std::optional(options_.contacts.schedule));
   const auto solve_end = Clock::now();
   report.solve_us = us(solve_start, solve_end);
   keep_contact_impulses();

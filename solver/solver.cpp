@@ -102,7 +102,8 @@ void warm_start(const System& system, std::span<double> lambda, std::span<double
 
 }  // namespace
 
-SolveResult Solver::solve(const System& system, std::span<double> lambda, std::span<double> dv) {
+SolveResult Solver::solve(const System& system, std::span<double> lambda, std::span<double> dv,
+                          std::optional<HybridSchedule> schedule) {
   SolverState& s = *state_;
   if (options_.kind == SolverKind::direct)
     for (const RowBlock& b : system.blocks)
@@ -111,7 +112,7 @@ SolveResult Solver::solve(const System& system, std::span<double> lambda, std::s
   s.exact = std::all_of(system.blocks.begin(), system.blocks.end(), [](const RowBlock& b) { return b.equality; });
   if (s.factors) s.factor = s.ldl_for(system).factorize(system, s.rows);
   if (options_.kind == SolverKind::block_gs) s.blocks.update(system);
-  return resolve(system, lambda, dv);
+  return resolve(system, lambda, dv, 0, schedule);
 }
 
 SolveResult Solver::resolve(const System& system, std::span<double> lambda, std::span<double> dv, int iterations,

@@ -86,7 +86,9 @@ class Solver {
 
   // Numeric phase. lambda (size num_rows): warm start in, impulses out. dv (size 6 num_columns):
   // out, W J^T lambda.
-  SolveResult solve(const System& system, std::span<double> lambda, std::span<double> dv);
+  // `schedule` overrides options()' for this call (the physics step's contacts take their own).
+  SolveResult solve(const System& system, std::span<double> lambda, std::span<double> dv,
+                    std::optional<HybridSchedule> schedule = std::nullopt);
   // The same iterations on the matrix of the last solve(): `system` must hold the J, W and
   // compliance that solve() was given (its rhs and lambda may differ); nothing is refactored.
   // A failed last factorization is returned again (lambda and dv are then left as pgs leaves them).

@@ -268,9 +268,9 @@ TEST(ContactStep, HeavyBoxOnALightOneHoldsWithContactsInTheFactorWherePgsSinks) 
   const StackResult pgs = run_stack(SolverKind::pgs, 0, 120);
   std::printf("pgs: sink %.3g m, speed %.3g m/s, penetration %.3g m\n", pgs.sink, pgs.speed, pgs.penetration);
   EXPECT_TRUE(pgs.sink >= 0.01 || pgs.penetration > slop + 0.001);
-  const StackResult talk = run_stack(SolverKind::ldl_pgs, 0, 120);
-  std::printf("ldl-pgs (the talk's schedule): sink %.3g m, speed %.3g m/s, penetration %.3g m\n", talk.sink,
-              talk.speed, talk.penetration);
+  const StackResult rows = run_stack(SolverKind::ldl_pgs, 0, 120);
+  std::printf("ldl-pgs, contacts as projected rows only: sink %.3g m, speed %.3g m/s, penetration %.3g m\n", rows.sink,
+              rows.speed, rows.penetration);
 }
 
 TEST(ContactStep, PyramidOf55BoxesStands) {
@@ -313,6 +313,66 @@ TEST(ContactStep, HeavyBallOnAChainEndsOnTheGroundWithItsJointsHeld) {
   EXPECT_LT(r.error.position_max, 1e-6);
   EXPECT_LE(r.penetration_max_m, slop + 0.001);
   EXPECT_NEAR(ball.position.y(), 0.25, slop + 0.001);  // on the ground (rolling: no rolling friction)
+}
+
+#ifdef LDLPGS_HAVE_MUJOCO
+// MuJoCo's humanoid models fall onto their floor and stay on it: no contact deeper than the slop
+// plus 1 mm at the end of any step, every body's centre above the floor, no run failure.
+TEST(ContactStep, MujocoHumanoidsFallOntoTheirFloorAndStayOnIt) {
+  struct Case {
+    const char* file;
+    int steps;
+  };
+#ifdef __SANITIZE_ADDRESS__
+  const Case cases[] = {{"humanoid.xml", 1000}, {"22_humanoids.xml", 50}};
+#else
+  const Case cases[] = {{"humanoid.xml", 10000}, {"22_humanoids.xml", 1000}};
+#endif
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.file);
+    StepOptions o;
+    o.diagnostics = true;
+    Simulation sim(load_mechanism(std::string("/usr/share/mujoco/model/humanoid/") + c.file), o);
+    const double size = mechanism_size(sim.mechanism());
+    double penetration = 0;
+    for (int s = 0; s < c.steps; ++s) {
+      const StepReport r = sim.step();
+      ASSERT_EQ(run_failure(r, size), "") << "step " << s;
+      penetration = std::max(penetration, r.penetration_max_m);
+    }
+    double lowest = kUnbounded;
+    for (const RigidBody& b : sim.mechanism().bodies)
+      if (!b.is_static) lowest = std::min(lowest, b.position.z());
+    std::printf("%s, %d steps: deepest contact %.3g m, lowest centre z = %.3g m\n", c.file, c.steps, penetration, lowest);
+    EXPECT_LE(penetration, o.contacts.slop + 0.001);
+    EXPECT_GT(lowest, 0);
+  }
+}
+#endif
+
+// The talk's two vehicles on the ground, driven by their wheels' torques: they move forward (+x)
+// and stay whole. (Their joints do not stay at the post-stabilization's tolerance while driven:
+// papers/physics.md, "Vehicles on the ground".)
+TEST(ContactStep, VehiclesOnTheGroundDriveForward) {
+  for (const char* name : {"tracked-vehicle-on-ground", "multi-wheeled-vehicle-on-ground"}) {
+    SCOPED_TRACE(name);
+    StepOptions o;
+    o.diagnostics = true;
+    Simulation sim(scene(name), o);
+    const double size = mechanism_size(sim.mechanism());
+    const int chassis = sim.mechanism().find_body("chassis");
+    const double start = sim.mechanism().bodies[chassis].position.x();
+    double joints = 0, penetration = 0;
+    for (int s = 0; s < 120; ++s) {
+      const StepReport r = sim.step();
+      ASSERT_EQ(run_failure(r, size), "") << "step " << s;
+      joints = std::max(joints, r.error.position_max);
+      penetration = std::max(penetration, r.penetration_max_m);
+    }
+    const double advanced = sim.mechanism().bodies[chassis].position.x() - start;
+    std::printf("%s, 2 s: advanced %.3g m, joints %.3g m, penetration %.3g m\n", name, advanced, joints, penetration);
+    EXPECT_GT(advanced, 0.5);
+  }
 }
 
 TEST(ContactStep, AllocatesNothingOnceTheContactsHaveSettled) {

@@ -135,7 +135,8 @@ TEST(Scenes, EveryBuiltinIsBuiltUnderItsName) {
   EXPECT_EQ(names, (std::vector<std::string>{"pendulum", "chain-10", "heavy-chain-10-1000", "ragdoll", "four-bar",
                                               "rope-bridge", "tracked-vehicle", "multi-wheeled-vehicle",
                                               "mechanism-50", "driven-crank", "box-stack-1000", "pyramid-10",
-                                              "ball-chain-20-1000"}));
+                                              "ball-chain-20-1000", "tracked-vehicle-on-ground",
+                                              "multi-wheeled-vehicle-on-ground"}));
   for (const std::string& name : names) {
     const Mechanism m = builtin(name);
     EXPECT_EQ(m.name, name);
@@ -214,6 +215,8 @@ TEST(Scenes, CountsAreAsDesigned) {
       {"box-stack-1000", {3, 2, 0, 0, 0}},       // the ground and two cubes: contacts only
       {"pyramid-10", {56, 55, 0, 0, 0}},
       {"ball-chain-20-1000", {23, 21, 21, 63, 63}},  // ground, pivot, 20 links and the ball on 21 balls
+      {"tracked-vehicle-on-ground", {38, 37, 40, 200, 200}},      // the vehicles and a ground
+      {"multi-wheeled-vehicle-on-ground", {22, 21, 20, 88, 88}},
   };
   for (const std::string& name : builtin_scene_names()) {
     const Mechanism m = builtin(name);
