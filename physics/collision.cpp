@@ -127,6 +127,19 @@ void near_callback(void* data, dGeomID o1, dGeomID o2) {
     // them: their depth is c.depth - ma - mb, about the point midway between them.
     p.depth = c.depth - ma - mb;
     p.position = Eigen::Vector3d(c.pos[0], c.pos[1], c.pos[2]) + 0.5 * (mb - ma) * p.normal;
+    // An inflated box's corners stand out by its margin sideways too: the point is brought back
+    // within the real box (a sphere or capsule grows along its own normals, which needs none).
+    for (const GeomOwner* o : {&a, &b}) {
+      const RigidBody& body = m.bodies[o->body];
+      const Shape& s = body.shapes[o->shape];
+      if (s.type != ShapeType::box || g.margin[o->body] == 0) continue;
+      const Eigen::Quaterniond q = body.orientation * s.orientation;
+      const Eigen::Vector3d centre = body.to_world(s.position);
+      const Eigen::Vector3d local = q.conjugate() * (p.position - centre);
+      const Eigen::Vector3d within = local.cwiseMax(-s.half_extents).cwiseMin(s.half_extents);
+      const Eigen::Vector3d outside = local - within;  // what the clamp removes, the part along the normal kept
+      p.position = centre + q * (within + outside.dot(q.conjugate() * p.normal) * (q.conjugate() * p.normal));
+    }
     g.out->push_back(p);
   }
 }

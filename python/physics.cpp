@@ -173,7 +173,7 @@ void bind_physics(py::module_& m) {
             StepReport worst;
             int failed = 0, post_iterations = 0;
             std::string failure;
-            std::vector<double> solve_us(steps), step_us(steps);  // per step, for the medians
+            std::vector<double> solve_us(steps), step_us(steps), contact_us(steps);  // per step, for the medians
             {
               py::gil_scoped_release release;  // the steps touch no Python object
               for (int s = 0; s < steps; ++s) {
@@ -184,6 +184,9 @@ void bind_physics(py::module_& m) {
                 solve_us[s] = r.solve_us;
                 step_us[s] = r.step_us;
                 post_iterations += r.post_stabilize_iterations;
+                worst.contacts = std::max(worst.contacts, r.contacts);
+                worst.penetration_max_m = std::max(worst.penetration_max_m, r.penetration_max_m);
+                contact_us[s] = r.contact_us;
                 if (!r.result.ok() && failed++ == 0) failure = r.result.factor.message();
               }
             }
@@ -204,13 +207,79 @@ void bind_physics(py::module_& m) {
             d["post_stabilize_iterations"] = post_iterations;
             d["solve_us"] = median(solve_us);
             d["step_us"] = median(step_us);
+            d["contact_us"] = median(contact_us);
+            d["contacts_max"] = worst.contacts;
+            d["penetration_max_m"] = worst.penetration_max_m;
             return d;
           },
           py::arg("n") = 1,
           "n steps; over them the failed steps (a factorization that failed: the PGS "
           "impulses were used) and the first failure's message, the largest position (m) and angular (rad) "
-          "errors and velocity residual (with diagnostics), post-stabilization iterations, and the median "
-          "solve and step times (us), named as in the program's --json (README, Command-line vocabulary).")
+          "errors and velocity residual (with diagnostics), post-stabilization iterations, the median "
+          "solve, step and collision detection times (us), the most contact points in a step and the deepest "
+          "penetration after a step (m), named as in the program's --json (README, Command-line vocabulary).")
+      .def(
+          "add_shape",
+          [](Simulation& sim, py::handle body, const std::string& type, py::handle position, py::handle orientation,
+             double radius, double half_length, py::handle half_extents, py::handle normal, double friction,
+             double restitution, uint32_t contype, uint32_t conaffinity) {
+            Shape s;
+            if (!shape_type_from_string(type, &s.type))
+              throw InputError("add_shape: unknown shape type \"" + type + "\" (plane, sphere, capsule, box)");
+            if (!position.is_none()) s.position = vector3(position, "position");
+            if (!orientation.is_none()) {
+              const std::vector<double> q = orientation.cast<std::vector<double>>();
+              if (q.size() != 4) throw InputError("add_shape: orientation must have 4 entries (w, x, y, z)");
+              s.orientation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+            }
+            s.radius = radius;
+            s.half_length = half_length;
+            if (!half_extents.is_none()) s.half_extents = vector3(half_extents, "half_extents");
+            if (!normal.is_none()) s.normal = vector3(normal, "normal");
+            s.friction = friction;
+            s.restitution = restitution;
+            s.contype = contype;
+            s.conaffinity = conaffinity;
+            sim.add_shape(body_index(sim, body), s);
+          },
+          py::arg("body"), py::arg("type"), py::arg("position") = py::none(), py::arg("orientation") = py::none(),
+          py::arg("radius") = 0.0, py::arg("half_length") = 0.0, py::arg("half_extents") = py::none(),
+          py::arg("normal") = py::none(), py::arg("friction") = Shape{}.friction,
+          py::arg("restitution") = Shape{}.restitution, py::arg("contype") = 1u, py::arg("conaffinity") = 1u,
+          "A collision shape on a body (by index or name), as a scene file's \"shapes\" entry: type plane, sphere, "
+          "capsule or box; pose in the body frame; checked as scene files are (InputError).")
+      .def_property_readonly(
+          "contacts",
+          [](const Simulation& sim) {
+            const std::span<const Contact> cs = sim.contacts();
+            std::vector<int> a, b;
+            std::vector<double> position, normal, depth, impulse;
+            std::vector<uint8_t> factored;
+            for (const Contact& c : cs) {
+              a.push_back(c.body_a);
+              b.push_back(c.body_b);
+              for (int k = 0; k < 3; ++k) {
+                position.push_back(c.point.position[k]);
+                normal.push_back(c.point.normal[k]);
+                impulse.push_back(c.impulse[k]);
+              }
+              depth.push_back(c.point.depth);
+              factored.push_back(c.factored);
+            }
+            const py::ssize_t n = static_cast<py::ssize_t>(cs.size());
+            py::dict d;
+            d["body_a"] = numpy_copy<int>(a);
+            d["body_b"] = numpy_copy<int>(b);
+            d["position"] = numpy_copy<double>(position).attr("reshape")(n, 3);
+            d["normal"] = numpy_copy<double>(normal).attr("reshape")(n, 3);
+            d["depth_m"] = numpy_copy<double>(depth);
+            d["impulse"] = numpy_copy<double>(impulse).attr("reshape")(n, 3);
+            d["factored"] = numpy_copy<uint8_t>(factored).attr("astype")("bool");
+            return d;
+          },
+          "The last step's contact points: body_a, body_b (n,), position and normal (n, 3; world, the normal "
+          "from body a into b), depth_m (n,; > 0 penetrating, < 0 a speculative gap), impulse (n, 3: normal, two "
+          "friction; N s) and factored (n,: the normal row was in the LDL^T).")
       .def_property("positions", [](const Simulation& s) { return get_state(s, &Simulation::get_positions, 3); },
                     [](Simulation& s, py::handle x) { set_state(s, &Simulation::set_positions, 3, x, "positions"); },
                     "(bodies, 3): centres of mass, world frame (m).")

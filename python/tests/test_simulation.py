@@ -93,3 +93,29 @@ def test_state_arrays():
     sim.gravity = [0, 0, 0]
     sim.step(1)
     assert sim.velocities[sim.body_names.index("link9"), 0] > 0
+
+
+def test_shapes_and_contacts():
+    # A 2 kg unit cube added in code onto a ground plane, under y-up gravity: after it settles, four
+    # contact points at its bottom corners, normals along y, and normal impulses that carry its
+    # weight per step (m g dt), the analytic value.
+    scene = {"name": "cube", "timestep": 0.01,
+             "bodies": [{"name": "ground", "static": True, "position": [0, 0, 0]},
+                        {"name": "cube", "mass": 2, "inertia": [1 / 3, 1 / 3, 1 / 3], "position": [0, 0.5, 0]}]}
+    sim = ldlpgs.Simulation(scene)
+    sim.add_shape("ground", "plane", normal=[0, 1, 0])
+    sim.add_shape(1, "box", half_extents=[0.5, 0.5, 0.5], friction=0.8)
+    report = sim.step(100)
+    assert report["contacts_max"] == 4
+    assert report["penetration_max_m"] <= 0.006
+    c = sim.contacts
+    assert c["position"].shape == (4, 3) and c["impulse"].shape == (4, 3)
+    np.testing.assert_allclose(np.abs(c["normal"][:, 1]), 1, atol=1e-12)
+    np.testing.assert_allclose(np.abs(c["position"][:, [0, 2]]), 0.5, atol=1e-6)
+    assert abs(c["impulse"][:, 0].sum() - 2 * 9.81 * 0.01) < 1e-6
+    with pytest.raises(ldlpgs.InputError, match="radius"):
+        sim.add_shape(1, "sphere", radius=-1)
+    with pytest.raises(ldlpgs.InputError, match="plane"):
+        sim.add_shape(1, "plane", normal=[0, 1, 0])
+    with pytest.raises(ldlpgs.InputError, match="unknown shape type"):
+        sim.add_shape(1, "cone")
