@@ -33,7 +33,7 @@ namespace {
 
 struct StepArgs {
   std::string scene, solver = "ldl-pgs", ordering = "best", trace, contacts_file;
-  std::string friction_cone = "disk";
+  std::string friction_cone = "disk", contact_schedule = to_string(ContactOptions{}.schedule);
   int factor_contacts_after = ContactOptions{}.factor_after;
   std::string schedule = to_string(SolverOptions{}.schedule);
   int iterations = 10, steps = 200, post_stabilize = StepOptions{}.post_stabilize;
@@ -43,6 +43,15 @@ struct StepArgs {
   ShatterArgs shatter;
 };
 
+// A schedule option's value, or an InputError listing the names.
+HybridSchedule schedule_option(const char* flag, const std::string& value) {
+  HybridSchedule schedule;
+  if (hybrid_schedule_from_string(value, &schedule)) return schedule;
+  std::string known;
+  for (const char* name : hybrid_schedule_names()) known = known + " " + name;
+  throw InputError(flag + (" " + value) + ": unknown schedule (known:" + known + ")");
+}
+
 StepOptions step_options(const StepArgs& a) {
   StepOptions o;
   if (!solver_kind_from_string(a.solver, &o.solver.kind)) {
@@ -50,11 +59,7 @@ StepOptions step_options(const StepArgs& a) {
     for (const char* name : solver_names()) known = known + " " + name;
     throw InputError("--solver " + a.solver + ": unknown solver (known:" + known + ")");
   }
-  if (!hybrid_schedule_from_string(a.schedule, &o.solver.schedule)) {
-    std::string known;
-    for (const char* name : hybrid_schedule_names()) known = known + " " + name;
-    throw InputError("--schedule " + a.schedule + ": unknown schedule (known:" + known + ")");
-  }
+  o.solver.schedule = schedule_option("--schedule", a.schedule);
   if (a.iterations < 1) throw InputError("--iterations must be at least 1");
   if (a.post_stabilize < 0 && a.post_stabilize != StepOptions::kAutoPostStabilize)
     throw InputError("--post-stabilize must be >= 0 iterations (0: off; default: 8 with ldl-pgs and direct, 0 with pgs and block-gs)");
@@ -72,6 +77,7 @@ StepOptions step_options(const StepArgs& a) {
     throw InputError("--friction-cone " + a.friction_cone + ": unknown (known: disk pyramid)");
   o.contacts.friction_pyramid = a.friction_cone == "pyramid";
   o.contacts.factor_after = a.factor_contacts_after;
+  o.contacts.schedule = schedule_option("--contact-schedule", a.contact_schedule);
   o.diagnostics = true;
   return o;
 }
@@ -217,6 +223,7 @@ int run_step(const StepArgs& a) {
                         {"contacts_max", worst.contacts},
                         {"penetration_max_m", worst.penetration_max_m},
                         {"symbolic_analyses", sim.solver().symbolic_stats().analyses},
+                        {"symbolic_us", sim.solver().symbolic_stats().analysis_us},
                         {"position_error_max_m", worst.error.position_max},
                         {"position_error_rms_max_m", worst.error.position_rms},
                         {"angular_error_max_rad", worst.error.angular_max},
@@ -314,7 +321,8 @@ Command add_step_command(CLI::App& app) {
   add_ordering_option(cmd, &a->ordering, "Ordering of H's blocks (ldl-pgs, direct)");
   cmd->add_option("--compliance", a->compliance, "eps of the compliance eps diag(H)")->capture_default_str();
   cmd->add_option("--baumgarte", a->baumgarte, "Fraction of the position error corrected per step")->capture_default_str();
-  cmd->add_option("--schedule", a->schedule, "ldl-pgs with inequality rows: talk, inequality-pgs or block-gs")
+  cmd->add_option("--schedule", a->schedule,
+                  "ldl-pgs with inequality rows, on steps without contacts: talk, inequality-pgs or block-gs")
       ->capture_default_str();
   cmd->add_option("--post-stabilize", a->post_stabilize,
                   "At most this many position projection iterations per step on the step's own factor (0: off; "
@@ -330,6 +338,9 @@ Command add_step_command(CLI::App& app) {
                   "Write per step and contact point: step,time,body_a,body_b,x,y,z,nx,ny,nz,depth_m,impulse_normal,"
                   "impulse_t1,impulse_t2,factored (CSV; the normal from body a into b, impulses in N s; factored: in the LDL^T)");
   cmd->add_option("--friction-cone", a->friction_cone, "Friction bound of contacts: disk (|lambda_t| <= mu lambda_n) or pyramid (per row)")
+      ->capture_default_str();
+  cmd->add_option("--contact-schedule", a->contact_schedule,
+                  "ldl-pgs on steps with contacts, at the velocity and position levels: talk, inequality-pgs or block-gs")
       ->capture_default_str();
   cmd->add_option("--factor-contacts-after", a->factor_contacts_after,
                   "ldl-pgs: contacts pushing this many steps in a row join the LDL^T with their normal rows (0: never, the talk's schedule)")
