@@ -1,9 +1,12 @@
 // ldlpgs peers SCENE: one scene (a JSON file or a built-in name) stepped by every peer engine
 // and every one of our solvers in the same run (bench/peers/peer.h): median wall time per whole
-// step, the largest joint separation after the run, and the largest distance of any body from
+// step, the largest joint separation after the run, the deepest penetration of two shapes over
+// the run (the same measure for every engine: our collision detector on the engine's poses; the
+// name step --json gives its own), and the largest distance of any body from
 // the reference trajectory (our direct solver at a 16x smaller timestep), from the second
 // reference for trees (MuJoCo's RK4 in reduced coordinates at that timestep) and from our direct
-// solver at the scene's own timestep (the same discretization: what is left is the solver's).
+// solver at the scene's own timestep (the same discretization: what is left is the solver's);
+// no trajectory error for scenes with shapes (no reference).
 // An MJCF scene adds mujoco-mjcf, MuJoCo stepping the file itself.
 #include <cmath>
 #include <cstdio>
@@ -102,6 +105,7 @@ int run_peers(const PeersArgs& a) {
       } else {
         j["step_us"] = r.step_us;
         j["position_error_m"] = number_or_null(r.separation);
+        j["penetration_max_m"] = number_or_null(r.penetration_max);
         j["trajectory_error_m"] = number_or_null(r.trajectory_error);
         j["rk4_trajectory_error_m"] = number_or_null(against_rk4(r));
         j["direct_same_step_error_m"] = number_or_null(same_step(r));
@@ -126,15 +130,15 @@ int run_peers(const PeersArgs& a) {
                 m.name.c_str(), m.bodies.size(), m.constraints.size(), m.num_rows(), steps, m.timestep,
                 reference.ran() ? reference.engine.c_str() : "none", rk4.ran() ? rk4.engine.c_str() : "none");
     if (std::isfinite(references_apart)) std::printf(" (%.3e m apart)", references_apart);
-    std::printf("\n%-18s %12s %14s %14s %14s %14s\n", "engine", "step (us)", "separation (m)", "trajectory (m)",
-                "vs RK4 (m)", "vs direct (m)");
+    std::printf("\n%-18s %12s %14s %16s %14s %14s %14s\n", "engine", "step (us)", "separation (m)", "penetration (m)",
+                "trajectory (m)", "vs RK4 (m)", "vs direct (m)");
     for (const peers::PeerResult& r : results) {
       if (!r.ran()) {
         std::printf("%-18s skipped: %s\n", r.engine.c_str(), r.skipped.c_str());
         continue;
       }
-      std::printf("%-18s %12.1f %14.3e %14.3e %14.3e %14.3e%s\n", r.engine.c_str(), r.step_us, r.separation,
-                  r.trajectory_error, against_rk4(r), same_step(r), r.finite ? "" : "  (blew up)");
+      std::printf("%-18s %12.1f %14.3e %16.3e %14.3e %14.3e %14.3e%s\n", r.engine.c_str(), r.step_us, r.separation,
+                  r.penetration_max, r.trajectory_error, against_rk4(r), same_step(r), r.finite ? "" : "  (blew up)");
     }
   }
   return 0;

@@ -1,15 +1,30 @@
 // Bullet 3.24 in double precision (Debian's bullet-float64: BT_USE_DOUBLE_PRECISION) as a peer:
 // a btDiscreteDynamicsWorld with the sequential impulse solver, every body a btRigidBody
-// (static ones of mass 0) with an empty shape in collision group 0 and mask 0 (no collisions)
-// and deactivation off; constraints btPoint2PointConstraint (ball), btHingeConstraint,
+// (static ones of mass 0) with deactivation off; constraints btPoint2PointConstraint (ball), btHingeConstraint,
 // btSliderConstraint (prismatic: its angular limits 0 by default; cylindrical: freed) and
 // btFixedConstraint (weld), their frames in the body frames (ours: the centre of mass and
 // principal axes, as Bullet's). One stepSimulation(dt, 0) is one step of dt (no substeps).
+//
+// Contacts: a body's shapes as Bullet shapes (btStaticPlaneShape, btSphereShape,
+// btCapsuleShapeZ: ours lie along z, Bullet's default btCapsuleShape along y; btBoxShape), in a
+// btCompoundShape at their poses in the body frame unless the body has one shape at its centre;
+// a body without shapes keeps an empty shape in collision group 0 and mask 0 (no collisions).
+// Pair rules: Bullet multiplies the two bodies' frictions and restitutions by default; the
+// combine callbacks (btManifoldResult.h) are set to ours for the run, sqrt(mu_a mu_b) and
+// max(e_a, e_b), on each body's friction and restitution: Bullet keeps one per body, the largest
+// of its shapes' (exact where a body's shapes agree, as in every built-in scene). The filter of
+// physics/shape.h replaces Bullet's group and mask test (an overlap filter callback), per body
+// too: two bodies may touch if any of their shapes may; bodies joined without `collide` are
+// ignored pairs (addConstraint's disableCollisionsBetweenLinkedBodies). Bullet's defaults
+// otherwise: collision margins 0.04 m (inside boxes, the radius of spheres and capsules), split
+// impulse on, contact ERP 0.2.
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <memory>
+#include <utility>
 
 #include "bench/peers/engines.h"
 
@@ -32,6 +47,55 @@ btTransform frame(const Eigen::Vector3d& anchor, const Eigen::Matrix3d& f, int a
   return btTransform(basis, bt(anchor));
 }
 
+// A shape in its own frame.
+std::unique_ptr<btCollisionShape> bullet_shape(const Shape& s) {
+  switch (s.type) {
+    case ShapeType::plane: {
+      const Eigen::Vector3d n = s.normal.normalized();
+      return std::make_unique<btStaticPlaneShape>(bt(n), n.dot(s.position));
+    }
+    case ShapeType::sphere: return std::make_unique<btSphereShape>(s.radius);
+    case ShapeType::capsule: return std::make_unique<btCapsuleShapeZ>(s.radius, 2 * s.half_length);
+    case ShapeType::box: return std::make_unique<btBoxShape>(bt(s.half_extents));
+  }
+  return nullptr;
+}
+
+btScalar sqrt_friction(const btCollisionObject* a, const btCollisionObject* b) {
+  return std::sqrt(a->getFriction() * b->getFriction());
+}
+btScalar max_restitution(const btCollisionObject* a, const btCollisionObject* b) {
+  return std::max(a->getRestitution(), b->getRestitution());
+}
+
+// The pair filter of physics/shape.h on two collision objects (their user index: our body).
+struct Filter : btOverlapFilterCallback {
+  const Mechanism* m = nullptr;
+  bool needBroadphaseCollision(btBroadphaseProxy* p0, btBroadphaseProxy* p1) const override {
+    const RigidBody& a = m->bodies[static_cast<btCollisionObject*>(p0->m_clientObject)->getUserIndex()];
+    const RigidBody& b = m->bodies[static_cast<btCollisionObject*>(p1->m_clientObject)->getUserIndex()];
+    if (a.is_static && b.is_static) return false;
+    for (const Shape& x : a.shapes)
+      for (const Shape& y : b.shapes)
+        if (may_collide(x, y)) return true;
+    return false;
+  }
+};
+
+// Our combine rules while alive, Bullet's back after.
+struct PairRules {
+  CalculateCombinedCallback friction = gCalculateCombinedFrictionCallback;
+  CalculateCombinedCallback restitution = gCalculateCombinedRestitutionCallback;
+  PairRules() {
+    gCalculateCombinedFrictionCallback = &sqrt_friction;
+    gCalculateCombinedRestitutionCallback = &max_restitution;
+  }
+  ~PairRules() {
+    gCalculateCombinedFrictionCallback = friction;
+    gCalculateCombinedRestitutionCallback = restitution;
+  }
+};
+
 }  // namespace
 
 PeerResult run_bullet(const Mechanism& m, double seconds, int iterations) {
@@ -40,7 +104,10 @@ PeerResult run_bullet(const Mechanism& m, double seconds, int iterations) {
                               ConstraintType::cylindrical, ConstraintType::weld}, "Bullet");
   if (!r.ran()) return r;
   // Declared before the world, so they outlive it (its destructor walks its objects).
-  btEmptyShape shape;
+  btEmptyShape empty;
+  Filter filter;
+  filter.m = &m;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes;  // children first, then compounds
   std::vector<std::unique_ptr<btRigidBody>> body;
   std::vector<std::unique_ptr<btTypedConstraint>> joint;
   btDefaultCollisionConfiguration configuration;
@@ -50,21 +117,50 @@ PeerResult run_bullet(const Mechanism& m, double seconds, int iterations) {
   btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
   world.setGravity(bt(m.gravity));
   world.getSolverInfo().m_numIterations = iterations;
+  world.getPairCache()->setOverlapFilterCallback(&filter);
+  const PairRules rules;
 
   for (const RigidBody& b : m.bodies) {
-    btRigidBody::btRigidBodyConstructionInfo info(b.is_static ? 0.0 : b.mass, nullptr, &shape,
+    btCollisionShape* shape = &empty;
+    double friction = 0, restitution = 0;
+    for (const Shape& s : b.shapes) {
+      friction = std::max(friction, s.friction);
+      restitution = std::max(restitution, s.restitution);
+      shapes.push_back(bullet_shape(s));
+    }
+    if (b.shapes.size() == 1 && (b.shapes[0].type == ShapeType::plane ||
+                                 (b.shapes[0].position.isZero() && b.shapes[0].orientation.coeffs() == Eigen::Quaterniond::Identity().coeffs()))) {
+      shape = shapes.back().get();
+    } else if (!b.shapes.empty()) {
+      auto compound = std::make_unique<btCompoundShape>();
+      for (size_t k = 0; k < b.shapes.size(); ++k) {
+        const Shape& s = b.shapes[k];
+        const Eigen::Quaterniond& q = s.orientation;
+        compound->addChildShape(btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), bt(s.position)),
+                                shapes[shapes.size() - b.shapes.size() + k].get());
+      }
+      shapes.push_back(std::move(compound));
+      shape = shapes.back().get();
+    }
+    btRigidBody::btRigidBodyConstructionInfo info(b.is_static ? 0.0 : b.mass, nullptr, shape,
                                                   b.is_static ? btVector3(0, 0, 0) : bt(b.inertia));
     info.m_startWorldTransform =
         btTransform(btQuaternion(b.orientation.x(), b.orientation.y(), b.orientation.z(), b.orientation.w()),
                     bt(b.position));
+    info.m_friction = friction;
+    info.m_restitution = restitution;
     body.push_back(std::make_unique<btRigidBody>(info));
     btRigidBody* rb = body.back().get();
+    rb->setUserIndex(static_cast<int>(body.size()) - 1);
     if (!b.is_static) {
       rb->setLinearVelocity(bt(b.linear_velocity));
       rb->setAngularVelocity(bt(b.angular_velocity));
       rb->setActivationState(DISABLE_DEACTIVATION);
     }
-    world.addRigidBody(rb, 0, 0);
+    if (b.shapes.empty())
+      world.addRigidBody(rb, 0, 0);
+    else
+      world.addRigidBody(rb);  // the filter decides
   }
   for (const Constraint& c : m.constraints) {
     btRigidBody& a = *body[c.body_a];
@@ -93,7 +189,7 @@ PeerResult run_bullet(const Mechanism& m, double seconds, int iterations) {
                                                             frame(c.anchor_b, c.frame_b, 2)));
         break;
     }
-    world.addConstraint(joint.back().get(), true);
+    world.addConstraint(joint.back().get(), !c.collide);
   }
 
   Mechanism state = m;
@@ -103,8 +199,8 @@ PeerResult run_bullet(const Mechanism& m, double seconds, int iterations) {
       const btQuaternion q = t.getRotation();
       state.bodies[i].position = eig(t.getOrigin());
       state.bodies[i].orientation = Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z());
-      r.positions.push_back(state.bodies[i].position);
     }
+    record_poses(state, &r);
   };
   timed_steps(m, seconds, [&] { world.stepSimulation(m.timestep, 0); }, read_back, &r);
 

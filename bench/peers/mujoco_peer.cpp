@@ -5,8 +5,17 @@
 // hinge does, with one redundant row along the axis, which MuJoCo's soft constraints absorb).
 // MuJoCo has no prismatic equality. The model is an MJCF string loaded through a temporary
 // file (mj_loadXML), at MuJoCo's hardest settings: Newton solver, 100 iterations, tolerance 0,
-// semi-implicit Euler (as ours), contacts off, every equality solref = (2 timestep, 1) (the
+// semi-implicit Euler (as ours), every equality solref = (2 timestep, 1) (the
 // stiffest MuJoCo accepts without refsafe off) and solimp (0.9999, 0.9999, 0.001, 0.5, 2).
+//
+// Contacts where the mechanism has shapes (off otherwise): each shape a geom of its body at its
+// pose in the body frame (plane, sphere, capsule along z and box are MuJoCo's types; a plane's z
+// is our normal), condim 3 with friction (our mu, 0, 0), our contype and conaffinity, and an
+// <exclude> for each pair of bodies joined without `collide` (reduced coordinates also leave
+// parent and child apart themselves). MuJoCo's defaults otherwise: soft contacts (solref 0.02 1,
+// solimp 0.9 0.95 0.001), the pyramidal cone, margin 0. Its pair rule for friction is the larger
+// of the two geoms' (ours: sqrt(mu_a mu_b); the same where they agree, as in every built-in
+// scene); it has no restitution (every built-in scene's is 0).
 //
 // And, where the body graph is a forest, in MuJoCo's own reduced coordinates (run_mujoco_tree):
 // bodies nested from the static ones (the world) or from a free root, each joint a MuJoCo joint
@@ -16,7 +25,8 @@
 //
 // And, for a scene read from an MJCF file, that file itself (run_mujoco_mjcf): MuJoCo's own
 // model in its reduced coordinates, with what physics/mjcf.h drops turned off here too, so both
-// step the same mechanism: contacts, passive forces (springs, damping), actuation and friction
+// step the same mechanism: contacts where the conversion kept no shape (with shapes, MuJoCo
+// collides its own geoms, the floor included), passive forces (springs, damping), actuation and friction
 // loss disabled (opt.disableflags), damping, stiffness, armature and friction loss zeroed (the
 // Euler integrator's implicit damping reads dof_damping, not the flags). Its bodies are ours
 // with the same index (physics/mjcf.h), our centres of mass its xipos.
@@ -30,9 +40,12 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <set>
 #include <sstream>
+#include <utility>
 
 #include "bench/peers/engines.h"
+#include "ldlpgs/physics/collision.h"
 
 namespace ldlpgs::peers {
 
@@ -52,21 +65,63 @@ std::string v3(const Eigen::Vector3d& v) {
   return s.str();
 }
 
-std::string options(const Mechanism& m, const char* integrator = "Euler") {
-  std::ostringstream x;
-  x.precision(17);
-  x << "<compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
-    << "<option timestep=\"" << m.timestep << "\" gravity=\"" << v3(m.gravity)
-    << "\" integrator=\"" << integrator << "\" solver=\"Newton\" iterations=\"100\" tolerance=\"0\">\n"
-    << "<flag contact=\"disable\"/>\n</option>\n";
-  return x.str();
-}
-
 std::string wxyz(const Eigen::Quaterniond& q) {
   std::ostringstream s;
   s.precision(17);
   s << q.w() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z();
   return s.str();
+}
+
+std::string options(const Mechanism& m, const char* integrator = "Euler") {
+  std::ostringstream x;
+  x.precision(17);
+  x << "<compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
+    << "<option timestep=\"" << m.timestep << "\" gravity=\"" << v3(m.gravity)
+    << "\" integrator=\"" << integrator << "\" solver=\"Newton\" iterations=\"100\" tolerance=\"0\">\n";
+  if (!has_shapes(m)) x << "<flag contact=\"disable\"/>\n";
+  x << "</option>\n";
+  return x.str();
+}
+
+// A body's shapes as geoms in its frame (the body frame is ours in the models built here).
+std::string geoms(const RigidBody& b) {
+  std::ostringstream x;
+  x.precision(17);
+  for (const Shape& s : b.shapes) {
+    x << "<geom type=\"" << to_string(s.type) << "\" size=\"";
+    switch (s.type) {
+      case ShapeType::plane: x << "0 0 1"; break;
+      case ShapeType::sphere: x << s.radius; break;
+      case ShapeType::capsule: x << s.radius << ' ' << s.half_length; break;
+      case ShapeType::box: x << v3(s.half_extents); break;
+    }
+    const Eigen::Quaterniond q = s.type == ShapeType::plane
+                                     ? Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), s.normal)
+                                     : s.orientation;
+    x << "\" pos=\"" << v3(s.position) << "\" quat=\"" << wxyz(q) << "\" condim=\"3\" friction=\"" << s.friction
+      << " 0 0\" contype=\"" << s.contype << "\" conaffinity=\"" << s.conaffinity << "\"/>";
+  }
+  return x.str();
+}
+
+// <size> for `rows` constraint rows and, with shapes, up to 16 contacts per geom, then <contact>
+// excluding the bodies joined without `collide`.
+std::string size_and_contacts(const Mechanism& m, int rows) {
+  std::ostringstream x;
+  if (!has_shapes(m)) {
+    x << "<size njmax=\"" << rows + 16 << "\" nconmax=\"1\"/>\n";
+    return x.str();
+  }
+  std::set<std::pair<int, int>> excluded;
+  for (const Constraint& c : m.constraints)
+    if (!c.collide) excluded.emplace(std::minmax(c.body_a, c.body_b));
+  x << "<contact>";
+  for (const auto& [a, b] : excluded) x << "<exclude body1=\"b" << a << "\" body2=\"b" << b << "\"/>";
+  int shapes = 0;
+  for (const RigidBody& b : m.bodies) shapes += static_cast<int>(b.shapes.size());
+  const int contacts = 16 * shapes + 16;  // a box on two boxes: 8 points on each
+  x << "</contact>\n<size njmax=\"" << rows + 16 + 4 * contacts << "\" nconmax=\"" << contacts << "\"/>\n";  // 4 rows: the pyramid
+  return x.str();
 }
 
 std::string mjcf(const Mechanism& m, const std::vector<Connect>& connects, int rows) {
@@ -76,8 +131,7 @@ std::string mjcf(const Mechanism& m, const std::vector<Connect>& connects, int r
   soft.precision(17);
   soft << "solref=\"" << 2 * m.timestep << " 1\" solimp=\"0.9999 0.9999 0.001 0.5 2\"";
   const std::string solref = soft.str();
-  x << "<mujoco model=\"peers\">\n" << options(m) << "<size njmax=\"" << rows + 16 << "\" nconmax=\"1\"/>\n"
-    << "<worldbody>\n";
+  x << "<mujoco model=\"peers\">\n" << options(m) << size_and_contacts(m, rows) << "<worldbody>\n";
   for (size_t i = 0; i < m.bodies.size(); ++i) {
     const RigidBody& b = m.bodies[i];
     const Eigen::Quaterniond& q = b.orientation;
@@ -85,7 +139,7 @@ std::string mjcf(const Mechanism& m, const std::vector<Connect>& connects, int r
       << q.y() << ' ' << q.z() << "\">";
     if (!b.is_static)
       x << "<freejoint/><inertial pos=\"0 0 0\" mass=\"" << b.mass << "\" diaginertia=\"" << v3(b.inertia) << "\"/>";
-    x << "</body>\n";
+    x << geoms(b) << "</body>\n";
   }
   x << "</worldbody>\n<equality>\n";
   for (const Connect& c : connects)
@@ -130,19 +184,22 @@ mjModel* load(const std::string& xml, std::string* error) {
 
 // Steps round(seconds / timestep) times, recording every body's pose (MuJoCo body id[i] for
 // ours i: its inertial frame, xipos and ximat, which is the body frame in the models built here)
-// in *state and r->positions; r->step_us the median of mj_step alone.
+// in *state and r (record_poses); r->step_us the median of mj_step alone.
 void step_and_record(const mjModel* model, mjData* data, const Mechanism& m, double seconds,
                      const std::vector<int>& id, Mechanism* state, PeerResult* r) {
   mj_forward(model, data);
   auto read_back = [&] {
     for (size_t i = 0; i < m.bodies.size(); ++i) {
+      // static bodies stay at our pose: MuJoCo puts the inertial frame of a massless body (the
+      // pivot of ball-chain-20-1000, 2 m up) at the origin
+      if (m.bodies[i].is_static) continue;
       const mjtNum* p = data->xipos + 3 * id[i];
       mjtNum q[4];
       mju_mat2Quat(q, data->ximat + 9 * id[i]);
       state->bodies[i].position = Eigen::Vector3d(p[0], p[1], p[2]);
       state->bodies[i].orientation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
-      r->positions.push_back(state->bodies[i].position);
     }
+    record_poses(*state, r);
   };
   // mj_kinematics: xipos, ximat of the new qpos (mj_step leaves them one step behind); untimed
   timed_steps(m, seconds, [&] { mj_step(model, data); }, [&] {
@@ -297,7 +354,7 @@ void nest(const Mechanism& m, const Forest& f, int i, std::ostringstream& x) {
     }
     x << "<inertial pos=\"0 0 0\" mass=\"" << b.mass << "\" diaginertia=\"" << v3(b.inertia) << "\"/>";
   }
-  x << "\n";
+  x << geoms(b) << "\n";
   if (b.is_static) x << "</body>\n";  // a static body's children sit in the world
   for (int child : f.children[i]) nest(m, f, child, x);
   if (!b.is_static) x << "</body>\n";
@@ -316,7 +373,8 @@ PeerResult run_mujoco_tree(const Mechanism& scene, double seconds, bool rk4) {
   if (!r.ran()) return r;
   std::ostringstream x;
   x.precision(17);
-  x << "<mujoco model=\"peers-tree\">\n" << options(m, rk4 ? "RK4" : "Euler") << "<worldbody>\n";
+  x << "<mujoco model=\"peers-tree\">\n" << options(m, rk4 ? "RK4" : "Euler") << size_and_contacts(m, 0)
+    << "<worldbody>\n";
   for (size_t i = 0; i < m.bodies.size(); ++i)
     if (f.parent[i] < 0) nest(m, f, i, x);
   x << "</worldbody>\n</mujoco>\n";
@@ -383,7 +441,8 @@ PeerResult run_mujoco_mjcf(const std::string& path, const Mechanism& scene, doub
     mj_deleteModel(model);
     return r;
   }
-  model->opt.disableflags |= mjDSBL_CONTACT | mjDSBL_PASSIVE | mjDSBL_ACTUATION | mjDSBL_FRICTIONLOSS;
+  model->opt.disableflags |= mjDSBL_PASSIVE | mjDSBL_ACTUATION | mjDSBL_FRICTIONLOSS;
+  if (!has_shapes(scene)) model->opt.disableflags |= mjDSBL_CONTACT;
   for (int j = 0; j < model->njnt; ++j) model->jnt_stiffness[j] = 0;
   for (int d = 0; d < model->nv; ++d) model->dof_damping[d] = model->dof_armature[d] = model->dof_frictionloss[d] = 0;
   Mechanism m = scene;

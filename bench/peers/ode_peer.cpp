@@ -1,9 +1,19 @@
 // ODE 0.16 (Debian's libode-dev, built with dDOUBLE) as a peer: every dynamic body a dBody with
 // its mass and principal inertia, every static body the world (body 0), joints ball, hinge,
-// slider (our prismatic), piston (our cylindrical) and fixed (our weld), set at the initial pose; no geoms, so no
-// collisions. ERP is our Baumgarte factor 0.2 (also ODE's default), CFM ODE's default.
+// slider (our prismatic), piston (our cylindrical) and fixed (our weld), set at the initial pose.
+// ERP is our Baumgarte factor 0.2 (also ODE's default), CFM ODE's default.
 // dWorldStep solves the LCP with a dense factorization (O(rows^3)); dWorldQuickStep runs SOR
 // iterations (ODE's default 20).
+//
+// Contacts, as ODE's demos make them: one geom per shape, on its dBody at the shape's pose in the
+// body frame (dGeomSetOffsetPosition/Quaternion; ODE's body frame is ours, the centre of mass and
+// principal axes), a static body's geoms without a body at their world pose (a plane as
+// n . x = d); a sweep-and-prune space as our detector's. Each step, before the solve,
+// dSpaceCollide, the rules of physics/shape.h on each candidate pair, dCollide for up to 4
+// points, each a dContactJoint (in a joint group emptied after the step) with mu = our pair's
+// friction as a Coulomb coefficient (dContactApprox1: the friction pyramid's bound is mu times
+// the normal impulse, not a constant force) and bounce = our restitution. No soft-contact
+// settings: the contacts take the world's ERP 0.2 and CFM, as the joints do.
 #include <ode/ode.h>
 
 #include <algorithm>
@@ -11,6 +21,7 @@
 #include <mutex>
 
 #include "bench/peers/engines.h"
+#include "ldlpgs/physics/collision.h"
 
 namespace ldlpgs::peers {
 
@@ -20,8 +31,95 @@ static_assert(sizeof(dReal) == sizeof(double), "the peers compare double precisi
 
 struct World {
   dWorldID id = dWorldCreate();
-  ~World() { dWorldDestroy(id); }  // destroys its bodies and joints
+  dSpaceID space = dSweepAndPruneSpaceCreate(nullptr, dSAP_AXES_XZY);
+  dJointGroupID contacts = dJointGroupCreate(0);
+  World() { dSpaceSetCleanup(space, 1); }
+  ~World() {
+    dJointGroupDestroy(contacts);
+    dSpaceDestroy(space);  // destroys its geoms
+    dWorldDestroy(id);     // destroys its bodies and joints
+  }
 };
+
+struct Owner {
+  int body, shape;
+};
+
+// What dSpaceCollide's callback needs: the mechanism, each geom's owner (its data is the index),
+// the body pairs our rules keep apart, the bodies' dBodyIDs.
+struct Collide {
+  const Mechanism* m;
+  World* world;
+  const std::vector<dBodyID>* body;
+  std::vector<Owner> owner;
+  std::vector<std::pair<int, int>> excluded;  // (low, high), sorted
+};
+
+// A candidate pair from the space, kept apart by the rules of physics/shape.h (one body, two
+// static bodies, the pair filter, bodies joined without `collide`), else up to 4 contact joints.
+void near_callback(void* data, dGeomID g1, dGeomID g2) {
+  const Collide& c = *static_cast<const Collide*>(data);
+  const Owner& x = c.owner[reinterpret_cast<size_t>(dGeomGetData(g1))];
+  const Owner& y = c.owner[reinterpret_cast<size_t>(dGeomGetData(g2))];
+  const RigidBody &bx = c.m->bodies[x.body], &by = c.m->bodies[y.body];
+  if (x.body == y.body || (bx.is_static && by.is_static)) return;
+  const Shape &sx = bx.shapes[x.shape], &sy = by.shapes[y.shape];
+  if (!may_collide(sx, sy) ||
+      std::binary_search(c.excluded.begin(), c.excluded.end(), std::pair<int, int>(std::minmax(x.body, y.body))))
+    return;
+  dContact contact[kMaxPointsPerPair];
+  const int n = dCollide(g1, g2, kMaxPointsPerPair, &contact[0].geom, sizeof(dContact));
+  for (int i = 0; i < n; ++i) {
+    dSurfaceParameters& s = contact[i].surface;
+    s = {};
+    s.mode = dContactApprox1;
+    s.mu = combined_friction(sx, sy);
+    s.bounce = combined_restitution(sx, sy);
+    if (s.bounce > 0) s.mode |= dContactBounce;
+    const dJointID j = dJointCreateContact(c.world->id, c.world->contacts, &contact[i]);
+    dJointAttach(j, (*c.body)[x.body], (*c.body)[y.body]);
+  }
+}
+
+// The geoms of `m`'s shapes in world.space, on their bodies.
+void make_geoms(const Mechanism& m, const std::vector<dBodyID>& body, World* world, Collide* c) {
+  for (int b = 0; b < static_cast<int>(m.bodies.size()); ++b) {
+    const RigidBody& rb = m.bodies[b];
+    for (int k = 0; k < static_cast<int>(rb.shapes.size()); ++k) {
+      const Shape& s = rb.shapes[k];
+      dGeomID g = nullptr;
+      switch (s.type) {
+        case ShapeType::plane: {
+          const Eigen::Vector3d n = (rb.orientation * s.normal).normalized();
+          g = dCreatePlane(world->space, n.x(), n.y(), n.z(), n.dot(rb.to_world(s.position)));
+          break;
+        }
+        case ShapeType::sphere: g = dCreateSphere(world->space, s.radius); break;
+        case ShapeType::capsule: g = dCreateCapsule(world->space, s.radius, 2 * s.half_length); break;
+        case ShapeType::box:
+          g = dCreateBox(world->space, 2 * s.half_extents.x(), 2 * s.half_extents.y(), 2 * s.half_extents.z());
+          break;
+      }
+      dGeomSetData(g, reinterpret_cast<void*>(c->owner.size()));
+      c->owner.push_back({b, k});
+      if (s.type == ShapeType::plane) continue;
+      const Eigen::Quaterniond q = body[b] ? s.orientation : rb.orientation * s.orientation;
+      const dQuaternion dq = {q.w(), q.x(), q.y(), q.z()};
+      if (body[b]) {
+        dGeomSetBody(g, body[b]);
+        dGeomSetOffsetPosition(g, s.position.x(), s.position.y(), s.position.z());
+        dGeomSetOffsetQuaternion(g, dq);
+      } else {
+        const Eigen::Vector3d p = rb.to_world(s.position);
+        dGeomSetPosition(g, p.x(), p.y(), p.z());
+        dGeomSetQuaternion(g, dq);
+      }
+    }
+  }
+  for (const Constraint& k : m.constraints)
+    if (!k.collide) c->excluded.emplace_back(std::minmax(k.body_a, k.body_b));
+  std::sort(c->excluded.begin(), c->excluded.end());
+}
 
 Eigen::Vector3d vec(const dReal* p) { return {p[0], p[1], p[2]}; }
 
@@ -30,11 +128,14 @@ Eigen::Vector3d vec(const dReal* p) { return {p[0], p[1], p[2]}; }
 PeerResult run_ode(const Mechanism& m, double seconds, int quickstep_iterations) {
   static std::once_flag init;
   std::call_once(init, [] { dInitODE2(0); });
+  thread_local bool thread_ready = false;  // ODE's per-thread collision data
+  if (!thread_ready) thread_ready = dAllocateODEDataForThread(dAllocateMaskAll);
   PeerResult r;
   r.skipped = unsupported(m, {ConstraintType::ball, ConstraintType::hinge, ConstraintType::prismatic,
                               ConstraintType::cylindrical, ConstraintType::weld}, "ODE");
   if (!r.ran()) return r;
   World world;
+  dRandSetSeed(0);  // QuickStep shuffles its rows with ODE's global generator: the same run each time
   dWorldSetGravity(world.id, m.gravity.x(), m.gravity.y(), m.gravity.z());
   dWorldSetERP(world.id, 0.2);
   if (quickstep_iterations) dWorldSetQuickStepNumIterations(world.id, quickstep_iterations);
@@ -81,6 +182,9 @@ PeerResult run_ode(const Mechanism& m, double seconds, int quickstep_iterations)
     }
   }
 
+  Collide collide{&m, &world, &body, {}, {}};
+  make_geoms(m, body, &world, &collide);
+
   Mechanism state = m;  // the poses ODE reports
   auto read_back = [&] {
     for (size_t i = 0; i < m.bodies.size(); ++i) {
@@ -89,16 +193,18 @@ PeerResult run_ode(const Mechanism& m, double seconds, int quickstep_iterations)
         const dReal* q = dBodyGetQuaternion(body[i]);
         state.bodies[i].orientation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
       }
-      r.positions.push_back(state.bodies[i].position);
     }
+    record_poses(state, &r);
   };
   timed_steps(
       m, seconds,
       [&] {
+        dSpaceCollide(world.space, &collide, &near_callback);
         if (quickstep_iterations)
           dWorldQuickStep(world.id, m.timestep);
         else
           dWorldStep(world.id, m.timestep);
+        dJointGroupEmpty(world.contacts);
       },
       read_back, &r);
 

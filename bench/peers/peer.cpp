@@ -1,11 +1,13 @@
 // The table of peer engines, our own solvers as entries of it, and what all engines share: the
-// joint separation from our anchors, the reference run and the trajectory comparison.
+// joint separation from our anchors, the penetration metric, the reference run and the
+// trajectory comparison.
 #include "bench/peers/peer.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "bench/peers/engines.h"
+#include "ldlpgs/physics/collision.h"
 #include "ldlpgs/physics/step.h"
 
 namespace ldlpgs::peers {
@@ -24,6 +26,13 @@ PeerResult run_mujoco_mjcf(const std::string&, const Mechanism&, double, bool) {
 #endif
 
 namespace {
+
+// An engine's result under its name in the table, with the penetration of its poses.
+PeerResult named(PeerResult r, const Mechanism& m, const std::string& name) {
+  r.engine = name;
+  r.penetration_max = penetration_max(m, r);
+  return r;
+}
 
 // One of our solvers as a peer: Simulation::step timed whole (J, W, H, the solve, integration,
 // post-stabilization as StepOptions defaults it, or as `post_stabilize` says).
@@ -45,9 +54,7 @@ PeerResult run_ours(const Mechanism& m, double seconds, SolverKind kind, const s
   options.post_stabilize = post_stabilize;
   Simulation sim(m, options);
   const size_t nb = m.bodies.size();
-  timed_steps(m, seconds, [&] { sim.step(); }, [&] {
-    for (const RigidBody& b : sim.mechanism().bodies) r.positions.push_back(b.position);
-  }, &r);
+  timed_steps(m, seconds, [&] { sim.step(); }, [&] { record_poses(sim.mechanism(), &r); }, &r);
   r.separation = joint_separation(sim.mechanism());
   for (size_t i = r.positions.size() - nb; i < r.positions.size(); ++i) r.finite = r.finite && r.positions[i].allFinite();
   if (!r.finite) r.separation = std::numeric_limits<double>::infinity();
@@ -62,7 +69,7 @@ PeerEngine ours(const char* solver, SolverKind kind, bool baumgarte_only = false
   if (baumgarte_only) name += "-baumgarte";
   const int post = baumgarte_only ? 0 : StepOptions::kAutoPostStabilize;
   return {name, "ldlpgs", true,
-          [kind, name, post](const Mechanism& m, double s) { return run_ours(m, s, kind, name, post); }};
+          [kind, name, post](const Mechanism& m, double s) { return named(run_ours(m, s, kind, name, post), m, name); }};
 }
 
 #ifdef LDLPGS_HAVE_ODE
@@ -85,18 +92,14 @@ PeerEngine ode(int quickstep_iterations) {
   std::string name = quickstep_iterations ? "ode-quickstep-" : "ode-step";
   if (quickstep_iterations) name += std::to_string(quickstep_iterations);
   return {name, "ODE (libode-dev)", kOde, [quickstep_iterations, name](const Mechanism& m, double s) {
-            PeerResult r = run_ode(m, s, quickstep_iterations);
-            r.engine = name;
-            return r;
+            return named(run_ode(m, s, quickstep_iterations), m, name);
           }};
 }
 PeerEngine bullet(int iterations) {
   std::string name = "bullet-si-";
   name += std::to_string(iterations);
   return {name, "Bullet float64 (libbullet-dev)", kBullet, [iterations, name](const Mechanism& m, double s) {
-            PeerResult r = run_bullet(m, s, iterations);
-            r.engine = name;
-            return r;
+            return named(run_bullet(m, s, iterations), m, name);
           }};
 }
 
@@ -116,17 +119,9 @@ const std::vector<PeerEngine>& peer_engines() {
       bullet(10),  // Bullet's default m_numIterations is 10
       bullet(100),
       {"mujoco-maximal", "MuJoCo (libmujoco-dev)", kMujoco,
-       [](const Mechanism& m, double s) {
-         PeerResult r = run_mujoco(m, s);
-         r.engine = "mujoco-maximal";
-         return r;
-       }},
+       [](const Mechanism& m, double s) { return named(run_mujoco(m, s), m, "mujoco-maximal"); }},
       {"mujoco-reduced", "MuJoCo (libmujoco-dev)", kMujoco,
-       [](const Mechanism& m, double s) {
-         PeerResult r = run_mujoco_tree(m, s);
-         r.engine = "mujoco-reduced";
-         return r;
-       }},
+       [](const Mechanism& m, double s) { return named(run_mujoco_tree(m, s), m, "mujoco-reduced"); }},
   };
   return table;
 }
@@ -139,9 +134,7 @@ const PeerEngine* find_peer(std::string_view name) {
 
 PeerEngine mjcf_peer(const std::string& path) {
   return {"mujoco-mjcf", "MuJoCo (libmujoco-dev)", kMujoco, [path](const Mechanism& m, double s) {
-            PeerResult r = run_mujoco_mjcf(path, m, s);
-            r.engine = "mujoco-mjcf";
-            return r;
+            return named(run_mujoco_mjcf(path, m, s), m, "mujoco-mjcf");
           }};
 }
 
@@ -163,6 +156,33 @@ std::string unsupported(const Mechanism& m, std::initializer_list<ConstraintType
     }
   }
   return "";
+}
+
+void record_poses(const Mechanism& state, PeerResult* r) {
+  for (const RigidBody& b : state.bodies) {
+    r->positions.push_back(b.position);
+    r->orientations.push_back(b.orientation);
+  }
+}
+
+double penetration_max(const Mechanism& m, const PeerResult& r) {
+  if (!r.ran() || !has_shapes(m)) return 0;
+  if (!r.finite) return std::numeric_limits<double>::infinity();
+  const size_t nb = m.bodies.size();
+  Mechanism at = m;
+  for (RigidBody& b : at.bodies) b.linear_velocity = b.angular_velocity = Eigen::Vector3d::Zero();  // no speculative reach
+  CollisionWorld world(at);
+  std::vector<ContactPoint> points;
+  double deepest = 0;
+  for (int s = r.steps > 0 ? 1 : 0; s <= r.steps; ++s) {
+    for (size_t b = 0; b < nb; ++b) {
+      at.bodies[b].position = r.positions[s * nb + b];
+      at.bodies[b].orientation = r.orientations[s * nb + b];
+    }
+    world.detect(at, 0, 0, &points);
+    for (const ContactPoint& p : points) deepest = std::max(deepest, p.depth);
+  }
+  return deepest;
 }
 
 double joint_separation(const Constraint& c, const RigidBody& a, const RigidBody& b) {
@@ -205,6 +225,8 @@ PeerResult rk4_reference_run(const Mechanism& m, double seconds, const std::stri
   PeerResult r;
   if (!kMujoco) {
     r.skipped = "MuJoCo (libmujoco-dev) is not installed";
+  } else if (has_shapes(m)) {
+    r.skipped = "bodies have shapes: a contact scene has no reference trajectory (its motion is the contact solver's)";
   } else if (!mjcf_path.empty()) {
     r = run_mujoco_mjcf(mjcf_path, m, seconds, true);
     r.engine = "MuJoCo RK4 on the MJCF file, timestep / 16";

@@ -1,10 +1,12 @@
 #pragma once
 // Peer engines (issue 6, "Peers, same scenes, same run"): the same mechanism built in ODE, Bullet
-// and MuJoCo, and stepped with each of our solvers, collisions off, the scene's gravity and
-// timestep; for each, the median wall time of one whole step, the largest joint separation after
-// a fixed simulated time (read back from the engine), and every body's trajectory against a
-// reference (our direct solver at a 16x smaller timestep; for trees also MuJoCo's reduced-
-// coordinate RK4 at that timestep).
+// and MuJoCo, and stepped with each of our solvers, the scene's gravity and timestep, and the
+// bodies' shapes (physics/shape.h) as each engine's collision geometry with our pair rules; for
+// each, the median wall time of one whole step (collision detection included), the largest joint
+// separation after a fixed simulated time (read back from the engine), the deepest penetration
+// of the engine's poses (measured by our collision detector, the same for all), and every body's
+// trajectory against a reference (our direct solver at a 16x smaller timestep; for trees also
+// MuJoCo's reduced-coordinate RK4 at that timestep; neither for scenes with shapes).
 //
 // One interface, one file per engine, a table chosen by name (as the orderings are):
 //   ldlpgs-pgs, ldlpgs-block-gs, ldlpgs-ldl-pgs, ldlpgs-direct   ours (peer.cpp), 10 iterations
@@ -25,6 +27,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "bench/median.h"
 #include "ldlpgs/physics/mechanism.h"
@@ -38,10 +41,15 @@ struct PeerResult {
   double step_us = 0;     // median wall time of one whole step (us)
   double separation = 0;  // largest joint separation at the end (m), read back from the engine
   double trajectory_error = std::numeric_limits<double>::quiet_NaN();  // set by compare_to (m)
+  // The deepest penetration of two shapes over the engine's poses after each step (the initial
+  // pose where there are none), m: our CollisionWorld (margin 0) on the mechanism at those poses,
+  // whatever the engine's own collision geometry; infinity if the run is not finite.
+  double penetration_max = 0;
   bool finite = true;     // no NaN or infinity in the state
-  // Centres of mass at every step, static bodies included: [step * bodies + body] (size
-  // (steps + 1) x bodies; step 0 = the initial pose).
+  // Centres of mass and orientations at every step, static bodies included: [step * bodies +
+  // body] (each of size (steps + 1) x bodies; step 0 = the initial pose).
   std::vector<Eigen::Vector3d> positions;
+  std::vector<Eigen::Quaterniond> orientations;
   bool ran() const { return skipped.empty(); }
 };
 
@@ -56,8 +64,9 @@ struct PeerEngine {
 const std::vector<PeerEngine>& peer_engines();
 const PeerEngine* find_peer(std::string_view name);  // nullptr if none has that name
 // For a scene loaded from the MJCF file `path` (physics/mjcf.h): "mujoco-mjcf", MuJoCo stepping
-// that file in its own reduced coordinates with what the conversion drops turned off (contacts,
-// springs, damping, armature, friction loss, actuators); the natural MuJoCo peer of a real model.
+// that file in its own reduced coordinates with what the conversion drops turned off (springs,
+// damping, armature, friction loss, actuators; contacts too unless the converted mechanism has
+// shapes: then MuJoCo collides its own geoms); the natural MuJoCo peer of a real model.
 PeerEngine mjcf_peer(const std::string& path);
 
 // --- shared by the engines ---
@@ -70,13 +79,19 @@ std::string unsupported(const Mechanism& m, std::initializer_list<ConstraintType
 double joint_separation(const Constraint& c, const RigidBody& a, const RigidBody& b);
 double joint_separation(const Mechanism& m);  // the largest over the constraints
 
+// Appends every body's pose in `state` to r->positions and r->orientations.
+void record_poses(const Mechanism& state, PeerResult* r);
+// PeerResult::penetration_max of r's recorded poses of `m`'s bodies.
+double penetration_max(const Mechanism& m, const PeerResult& r);
+
 // The measuring loop every engine shares: read_back() records the initial pose, then `steps`
 // times step() (timed alone: whole steps, not the read-back) and read_back(); r->step_us is the
-// median. read_back appends each body's centre of mass to r->positions.
+// median. read_back records each body's pose (record_poses).
 template <class Step, class ReadBack>
 void timed_steps(const Mechanism& m, double seconds, Step step, ReadBack read_back, PeerResult* r) {
   r->steps = peer_steps(m, seconds);
   r->positions.reserve((r->steps + 1) * m.bodies.size());
+  r->orientations.reserve((r->steps + 1) * m.bodies.size());
   read_back();
   std::vector<double> us;  // size steps
   us.reserve(r->steps);
@@ -90,12 +105,13 @@ void timed_steps(const Mechanism& m, double seconds, Step step, ReadBack read_ba
 }
 
 // Our direct solver at timestep / 16 for the same simulated time (the reference trajectory);
-// skipped when the scene has inequality constraints (direct solves equalities only).
+// skipped when the scene has inequality constraints or shapes (direct solves equalities only).
 PeerResult reference_run(const Mechanism& m, double seconds);
 // The second reference, where the mechanism is a tree: MuJoCo's RK4 in reduced coordinates at
 // timestep / 16, on the MJCF file itself if `mjcf_path` is not empty (mjcf_peer), else on the
 // tree built from the mechanism (mujoco-reduced); skipped (with why) for a loop, a constraint
-// reduced coordinates cannot express, or without MuJoCo. Direct at timestep / 16 is first order
+// reduced coordinates cannot express, shapes (a contact scene's motion is the contact solver's
+// choice, not a discretization of one solution), or without MuJoCo. Direct at timestep / 16 is first order
 // in the timestep; RK4 is fourth order: their difference is direct's discretization error.
 PeerResult rk4_reference_run(const Mechanism& m, double seconds, const std::string& mjcf_path = "");
 // Sets result->trajectory_error: the largest distance between a body's centre of mass and the
