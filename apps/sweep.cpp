@@ -18,10 +18,12 @@ namespace ldlpgs::cli {
 std::vector<std::string> sweep_cases(bool full) {
   if (!full)
     return {"heavy-chain-10-10", "heavy-chain-10-1000", "heavy-chain-10-1e6", "chain-10", "chain-100",
-            "four-bar", "driven-crank", "tracked-vehicle", "multi-wheeled-vehicle", "ragdoll"};
+            "four-bar", "driven-crank", "tracked-vehicle", "multi-wheeled-vehicle", "ragdoll",
+            "box-stack-1000", "ball-chain-20-1000"};
   return {"heavy-chain-10-10", "heavy-chain-10-100", "heavy-chain-10-1000", "heavy-chain-10-1e4", "heavy-chain-10-1e5",
           "heavy-chain-10-1e6", "chain-10", "chain-100", "chain-1000", "four-bar", "driven-crank", "tracked-vehicle",
-          "multi-wheeled-vehicle", "ragdoll"};
+          "multi-wheeled-vehicle", "ragdoll", "box-stack-1000", "ball-chain-20-1000", "pyramid-10",
+          "tracked-vehicle-on-ground", "multi-wheeled-vehicle-on-ground"};
 }
 
 std::vector<int> sweep_iterations(bool full) {
@@ -65,6 +67,7 @@ SweepPoint run_case(const Mechanism& m, const std::string& scene, const std::str
     us.push_back(r.solve_us);
     p.error_max = std::max(p.error_max, r.error.position_max);
     p.angular_error_max = std::max(p.angular_error_max, r.error.angular_max);
+    p.penetration_max = std::max(p.penetration_max, r.penetration_max_m);
     if (!std::isfinite(r.energy) || !std::isfinite(r.error.position_max) || !std::isfinite(r.error.angular_max)) {
       p.failure = "non-finite";
       break;
@@ -149,16 +152,16 @@ std::vector<Breakdown> stability(const std::vector<std::string>& cases, int iter
 
 void print_sweep_markdown(std::FILE* out, const std::vector<SweepPoint>& points) {
   std::fprintf(out, "| case | solver | iterations | solve us (median) | position error after (m) | largest during (m) "
-                    "| angular error after (rad) | largest during (rad) |\n");
-  std::fprintf(out, "|---|---|---|---|---|---|---|---|\n");
+                    "| angular error after (rad) | largest during (rad) | deepest contact (m) |\n");
+  std::fprintf(out, "|---|---|---|---|---|---|---|---|---|\n");
   for (const SweepPoint& p : points) {
     if (p.failure == "non-finite" || p.failure == "energy")
-      std::fprintf(out, "| %s | %s | %d | %.1f | failed: %s | | | |\n", p.scene.c_str(), p.solver.c_str(), p.iterations,
-                   p.solve_us, p.failure.c_str());
+      std::fprintf(out, "| %s | %s | %d | %.1f | failed: %s | | | | |\n", p.scene.c_str(), p.solver.c_str(),
+                   p.iterations, p.solve_us, p.failure.c_str());
     else
-      std::fprintf(out, "| %s | %s | %d | %.1f | %.2e%s | %.2e | %.2e | %.2e |\n", p.scene.c_str(), p.solver.c_str(),
-                   p.iterations, p.solve_us, p.error, p.failed() ? " (singular steps)" : "", p.error_max,
-                   p.angular_error, p.angular_error_max);
+      std::fprintf(out, "| %s | %s | %d | %.1f | %.2e%s | %.2e | %.2e | %.2e | %.2e |\n", p.scene.c_str(),
+                   p.solver.c_str(), p.iterations, p.solve_us, p.error, p.failed() ? " (singular steps)" : "",
+                   p.error_max, p.angular_error, p.angular_error_max, p.penetration_max);
   }
 }
 
@@ -229,6 +232,7 @@ nlohmann::json to_json(const std::vector<SweepPoint>& points) {
                  {"position_error_max_m", blown ? nlohmann::json(nullptr) : nlohmann::json(p.error_max)},
                  {"angular_error_rad", blown ? nlohmann::json(nullptr) : nlohmann::json(p.angular_error)},
                  {"angular_error_max_rad", blown ? nlohmann::json(nullptr) : nlohmann::json(p.angular_error_max)},
+                 {"penetration_max_m", blown ? nlohmann::json(nullptr) : nlohmann::json(p.penetration_max)},
                  {"failed", p.failed()},
                  {"failure", p.failure}});
   }

@@ -13,7 +13,8 @@
 namespace ldlpgs::cli {
 
 // The hard cases: heavy-load chains at mass ratios 1e1..1e6, chains of 10 to 1000 links, the
-// four-bar, the torque-driven crank, the vehicles, the ragdoll (quick: fewer of them).
+// four-bar, the torque-driven crank, the vehicles, the ragdoll, and with contacts the 1:1000
+// stack, the heavy ball on a chain, the pyramid, the vehicles on the ground (quick: fewer).
 std::vector<std::string> sweep_cases(bool full);
 std::vector<int> sweep_iterations(bool full);
 
@@ -25,6 +26,7 @@ struct SweepPoint {
   double error_max = 0;         // largest over the whole run
   double angular_error = 0;     // the same for angular rows (rad)
   double angular_error_max = 0;
+  double penetration_max = 0;   // the deepest contact at the end of any step (m; 0 without shapes)
   // Why the run failed, "" if it did not: "non-finite" (a NaN or infinity in the state),
   // "energy" (a blow-up: see blew_up), "singular" (a step's factorization failed; the step
   // went on with the PGS impulses, as Simulation does).

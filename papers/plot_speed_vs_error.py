@@ -65,22 +65,29 @@ def draw_solver(ax, solver, points, clamp):
 
 
 def plot_case(scene, points, path):
-    """The speed-against-error plot of one case into `path` (PNG)."""
-    clamp = clamp_value(points)
-    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    """The speed-against-error plot of one case into `path` (PNG); a scene with contacts gets a
+    second panel, the deepest contact over the run against the same times."""
+    contacts = any((p.get("penetration_max_m") or 0) > 0 for p in points)
+    fig, axes = plt.subplots(1, 2 if contacts else 1, figsize=(12.0 if contacts else 6.4, 4.6), squeeze=False)
+    panels = [("position_error_m", "position error after the run (m)")]
+    if contacts:
+        panels.append(("penetration_max_m", "deepest contact during the run (m)"))
     solvers = list(dict.fromkeys(p["solver"] for p in points))
-    for solver in solvers:
-        draw_solver(ax, solver, [p for p in points if p["solver"] == solver], clamp)
-    ax.axhline(CENTIMETRE, color="#555555", linestyle=":", linewidth=1, label="1 cm")
-    if any(p["failed"] for p in points):
-        ax.plot([], [], color="#555555", marker="x", linestyle="none", label=f"failed (drawn at {clamp:.0e} m)")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("median solve time per step (us)")
-    ax.set_ylabel("position error after the run (m)")
-    ax.set_title(f"{scene}: speed against error (labels: iterations)", fontsize=10)
-    ax.grid(True, which="major", color="#dddddd", linewidth=0.5)
-    ax.legend(fontsize=7, loc="best", frameon=True)
+    for ax, (field, label) in zip(axes[0], panels):
+        shown = [dict(p, position_error_m=p[field] if p[field] is not None else 0) for p in points]
+        clamp = clamp_value(shown)
+        for solver in solvers:
+            draw_solver(ax, solver, [p for p in shown if p["solver"] == solver], clamp)
+        ax.axhline(CENTIMETRE, color="#555555", linestyle=":", linewidth=1, label="1 cm")
+        if any(p["failed"] for p in shown):
+            ax.plot([], [], color="#555555", marker="x", linestyle="none", label=f"failed (drawn at {clamp:.0e} m)")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("median solve time per step (us)")
+        ax.set_ylabel(label)
+        ax.grid(True, which="major", color="#dddddd", linewidth=0.5)
+        ax.legend(fontsize=7, loc="best", frameon=True)
+    axes[0][0].set_title(f"{scene}: speed against error (labels: iterations)", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
