@@ -234,8 +234,13 @@ Simulation::Simulation(Mechanism mechanism, const StepOptions& options)
   for (const Constraint& c : mechanism_.constraints)
     if (is_equality(c.type)) jointed_[c.body_a] = jointed_[c.body_b] = 1;
   if (has_shapes(mechanism_)) {
-    if (options.solver.kind == SolverKind::direct)
-      throw InputError("the direct solver takes no contacts and bodies have shapes (use ldl-pgs)");
+    if (options.solver.kind == SolverKind::direct) {
+      const auto shaped = std::find_if(mechanism_.bodies.begin(), mechanism_.bodies.end(),
+                                       [](const RigidBody& b) { return !b.shapes.empty(); });
+      throw InputError("the direct solver takes no contacts: " +
+                       body_label(mechanism_, static_cast<int>(shaped - mechanism_.bodies.begin())) +
+                       " has shapes (use ldl-pgs)");
+    }
     collision_ = std::make_unique<CollisionWorld>(mechanism_);
   }
   options_.post_stabilize = post_stabilize_iterations(options);

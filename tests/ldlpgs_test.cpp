@@ -359,6 +359,18 @@ TEST(LdlpgsBadInput, RelaxMaxZerosOutsideZeroToOne) {
   expect_input_error("bench chain:10 --relax-max-zeros 1.5", {"--relax-max-zeros", "must be a finite number in [0, 1]"});
 }
 
+TEST(LdlpgsBadInput, DirectSolverOnAContactScene) {
+  expect_input_error("step pyramid-2 --solver direct", {"direct", "body \"ground\"", "shapes"});
+}
+TEST(LdlpgsBadInput, UnknownFrictionCone) {
+  expect_input_error("step box-stack-1000 --friction-cone cone", {"--friction-cone", "cone", "disk pyramid"});
+}
+TEST(LdlpgsBadInput, UnknownContactSchedule) {
+  expect_input_error("step box-stack-1000 --contact-schedule fast", {"--contact-schedule", "fast", "block-gs"});
+}
+TEST(LdlpgsBadInput, FactorContactsAfterNegative) {
+  expect_input_error("step box-stack-1000 --factor-contacts-after -1", {"--factor-contacts-after"});
+}
 TEST(LdlpgsBadInput, UnknownSolver) { expect_input_error("step pendulum --solver magic", {"--solver", "magic", "ldl-pgs"}); }
 
 TEST(LdlpgsBadInput, DirectOnInequalities) {
