@@ -22,6 +22,8 @@ void init_ode() {
   }
 }
 
+constexpr double kMaxMargin = 100;  // m
+
 struct GeomOwner {
   int body = -1, shape = -1;
 };
@@ -186,7 +188,10 @@ void CollisionWorld::detect(const Mechanism& m, double margin, double horizon, s
   for (size_t b = 0; b < m.bodies.size(); ++b) {
     const RigidBody& body = m.bodies[b];
     const double speed = body.linear_velocity.norm() + body.angular_velocity.norm() * g.reach[b] + m.gravity.norm() * horizon;
-    g.margin[b] = body.is_static ? 0 : margin + speed * horizon;
+    // (at most 100 m: a body that fast is found by its motion's next steps anyway, and a geom
+    // inflated beyond its world would only gather every pair)
+    const double inflation = margin + speed * horizon;
+    g.margin[b] = body.is_static ? 0 : inflation < kMaxMargin ? inflation : kMaxMargin;  // (NaN: the most)
   }
   for (size_t i = 0; i < g.geoms.size(); ++i) {
     const RigidBody& body = m.bodies[g.owners[i].body];
