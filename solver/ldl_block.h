@@ -2,10 +2,14 @@
 // Internal to solver/: the talk's block 0 of LDL-PGS, all equality rows as one block of the
 // block Gauss-Seidel iteration, solved exactly by the sparse block LDL^T of
 // H_0 + eps diag(H_0) (ldl_pgs.cpp). Symbolic phase in the constructor, numeric per step.
+#include <array>
 #include <memory>
 #include <span>
 #include <string>
 #include <vector>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
 
 #include "ldlpgs/factor/numeric.h"
 #include "ldlpgs/factor/symbolic.h"
@@ -29,6 +33,9 @@ class LdlBlock {
   // dV = W J^T lambda (no warm start).
   void exact_solve(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv);
   const Symbolic& symbolic() const { return *symbolic_; }
+  // At most this many bounded rows held at their bounds in one block step (beyond them, the
+  // rest are projected): each costs one more solve.
+  static constexpr int kMaxHeldRows = 16;
   // Whether this block's rows are exactly the factored blocks of `system` (RowBlock::in_factor:
   // the same blocks, sizes and columns), so that its symbolic phase serves it.
   bool serves(const System& system) const;
@@ -40,6 +47,23 @@ class LdlBlock {
   std::vector<double> work_;  // the block's residual, then its dlambda (size rows of H_0)
   std::vector<int64_t> packed_index_, packed_diagonal_;  // EqualityMatrix's positions in the factor's values
   std::vector<int> columns_;  // column_a, column_b of each block in the factor (size 2 blocks)
+
+  // The bounded rows in the block (factored inequality blocks): place in the block, System row.
+  struct Bounded {
+    int at, system_row;
+  };
+  struct Held {
+    int index;     // into bounded_
+    bool lower;    // held at its lower bound (else the upper)
+    double bound;
+  };
+  using HeldMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxHeldRows, kMaxHeldRows>;
+  using HeldVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxHeldRows, 1>;
+  void hold_bounded_rows(const System& system, std::span<const double> lambda);
+  std::vector<Bounded> bounded_;          // (size bounded rows)
+  std::array<Held, kMaxHeldRows> held_{};
+  std::vector<double> unconstrained_;     // the step before any row is held (size rows of the block)
+  std::vector<double> inverse_columns_;   // M^-1 e_c of each held row c (size kMaxHeldRows x rows), when bounded_ is not empty
 };
 
 // ldl_pgs.cpp: ldl-pgs's iterations on a system with inequality rows, after the factorization

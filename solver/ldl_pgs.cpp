@@ -18,9 +18,17 @@ LdlBlock::LdlBlock(const System& structure, const std::string& ordering) : h_(st
   numeric_ = std::make_unique<Numeric>(*symbolic_);
   work_.resize(h_.num_rows());
   h_.remap(symbolic_->load_map(), &packed_index_, &packed_diagonal_);
+  int at = 0;
   for (int k : h_.system_blocks()) {
-    columns_.push_back(structure.blocks[k].column_a);
-    columns_.push_back(structure.blocks[k].column_b);
+    const RowBlock& b = structure.blocks[k];
+    columns_.push_back(b.column_a);
+    columns_.push_back(b.column_b);
+    for (int r = 0; r < b.size; ++r, ++at)
+      if (!b.equality) bounded_.push_back({at, b.position + r});
+  }
+  if (!bounded_.empty()) {
+    unconstrained_.resize(work_.size());
+    inverse_columns_.resize(static_cast<size_t>(kMaxHeldRows) * work_.size());
   }
 }
 
@@ -53,17 +61,82 @@ void LdlBlock::block_step(const System& system, const RowCache& rows, std::span<
     }
   }
   if (!work_.empty()) numeric_->solve(work_);
+  if (!bounded_.empty()) hold_bounded_rows(system, lambda);
   at = 0;
   for (int k : h_.system_blocks()) {
     const RowBlock& b = system.blocks[k];
     for (int r = 0; r < b.size; ++r, ++at) {
       const int i = b.position + r;
       double step = work_[at];
-      // A factored inequality row is projected onto its bounds (a contact pulling is let go).
+      // (within its bounds already, but for rounding, or the active set's iteration limit)
       if (!b.equality) step = std::clamp(lambda[i] + step, system.lower[i], system.upper[i]) - lambda[i];
       lambda[i] += step;
       add_row_impulse(system, rows, k, r, step, dv);
     }
+  }
+}
+
+// work_ holds the unconstrained step dlambda0 = M^-1 w (M the factored matrix, w the block's
+// residual). The block's bounded rows must end within their bounds with complementarity: the rows
+// held at a bound take the step that puts them there and the rest of the block its exact response,
+//   dlambda = dlambda0 - M^-1 E_C mu,  (M^-1)_CC mu = dlambda0_C - (bound_C - lambda_C),
+// and a held row whose multiplier pulls the wrong way (mu_c > 0 at a lower bound: it would leave
+// the bound by itself) is let go. An active-set iteration (block pivoting) on the few rows at a
+// bound, one column of M^-1 (one more solve with the same factor) for each row held.
+void LdlBlock::hold_bounded_rows(const System& system, std::span<const double> lambda) {
+  const size_t n = work_.size();
+  std::copy(work_.begin(), work_.end(), unconstrained_.begin());
+  int held = 0;  // held_[0..held): indices into bounded_, their M^-1 columns in inverse_columns_
+  for (int round = 0; round < 2 * kMaxHeldRows; ++round) {
+    // the step for the held set
+    HeldVector mu(held);
+    if (held > 0) {
+      HeldMatrix m(held, held);
+      for (int p = 0; p < held; ++p) {
+        const Bounded& row = bounded_[held_[p].index];
+        mu(p) = unconstrained_[row.at] - (held_[p].bound - lambda[row.system_row]);
+        for (int q = 0; q < held; ++q) m(p, q) = inverse_columns_[q * n + row.at];
+      }
+      mu = m.ldlt().solve(mu).eval();
+    }
+    std::copy(unconstrained_.begin(), unconstrained_.end(), work_.begin());
+    for (int q = 0; q < held; ++q)
+      for (size_t x = 0; x < n; ++x) work_[x] -= inverse_columns_[q * n + x] * mu(q);
+    // the held row pulled most the wrong way is let go, and the step recomputed
+    int release = -1;
+    double worst = 0;
+    for (int p = 0; p < held; ++p) {
+      const double wrong = held_[p].lower ? mu(p) : -mu(p);
+      if (wrong > worst) {
+        worst = wrong;
+        release = p;
+      }
+    }
+    if (release >= 0) {
+      --held;
+      held_[release] = held_[held];
+      std::copy(inverse_columns_.begin() + held * n, inverse_columns_.begin() + (held + 1) * n,
+                inverse_columns_.begin() + release * n);
+      continue;
+    }
+    // the rows the step takes out of their bounds are held there
+    bool added = false;
+    for (int t = 0; t < static_cast<int>(bounded_.size()) && held < kMaxHeldRows; ++t) {
+      const int i = bounded_[t].system_row;
+      const double value = lambda[i] + work_[bounded_[t].at];
+      if (value >= system.lower[i] && value <= system.upper[i]) continue;
+      bool already = false;
+      for (int p = 0; p < held; ++p) already = already || held_[p].index == t;
+      if (already) continue;
+      double* column = inverse_columns_.data() + held * n;
+      std::fill(column, column + n, 0.0);
+      column[bounded_[t].at] = 1;
+      numeric_->solve({column, n});
+      const bool lower = value < system.lower[i];
+      held_[held++] = {t, lower, lower ? system.lower[i] : system.upper[i]};
+      added = true;
+    }
+    if (!added) return;
   }
 }
 

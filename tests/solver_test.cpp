@@ -191,6 +191,91 @@ TEST(Solver, InequalitiesMatchTheLcpByEnumeration) {
   }
 }
 
+// Bounded rows in the LDL block (RowBlock::factored: contacts in the factor), exactly and with
+// the proximal regularization, which must not move the solution: the same LCP.
+TEST(Solver, FactoredInequalityRowsMatchTheLcpByEnumeration) {
+  const std::vector<int> sizes = {3, 1, 5, 1, 3, 1, 4};
+  const std::vector<bool> bounded = {false, true, false, true, false, true, false};
+  for (double regularization : {0.0, 1e-3})
+    for (uint32_t seed = 1; seed <= 5; ++seed) {
+      System s = random_system(6, sizes, bounded, seed, 1e-3);
+      for (RowBlock& b : s.blocks)
+        if (!b.equality) {
+          b.factored = true;
+          b.regularization = regularization;
+        }
+      const Eigen::VectorXd expected = lcp_by_enumeration(s);
+      for (HybridSchedule schedule : {HybridSchedule::talk, HybridSchedule::block_gs}) {
+        Solver solver(s, {.kind = SolverKind::ldl_pgs, .iterations = 400, .schedule = schedule});
+        std::vector<double> lambda(s.num_rows, 0.0), dv(6 * s.num_columns, 0.0);
+        ASSERT_TRUE(solver.solve(s, lambda, dv).ok());
+        EXPECT_LT(max_diff(lambda, expected), 1e-7) << to_string(schedule) << " seed " << seed << " r " << regularization;
+        for (int i = 0; i < s.num_rows; ++i) EXPECT_GE(lambda[i], s.lower[i]);
+      }
+    }
+}
+
+// A new set of factored blocks runs the symbolic phase again; a set seen before reuses its own.
+TEST(Solver, FactoredSetsReuseTheirSymbolicPhase) {
+  const std::vector<int> sizes = {3, 1, 5, 1, 3};
+  const std::vector<bool> bounded = {false, true, false, true, false};
+  System s = random_system(5, sizes, bounded, 3, 1e-3);
+  Solver solver(s, {.kind = SolverKind::ldl_pgs, .iterations = 10});
+  std::vector<double> lambda(s.num_rows, 0.0), dv(6 * s.num_columns, 0.0);
+  const auto solve_with = [&](bool first, bool second) {
+    s.blocks[1].factored = first;
+    s.blocks[3].factored = second;
+    EXPECT_TRUE(solver.solve(s, lambda, dv).ok());
+    return solver.symbolic_stats().analyses;
+  };
+  EXPECT_EQ(solver.symbolic_stats().analyses, 1);  // the constructor's: equalities only
+  EXPECT_EQ(solve_with(false, false), 1);
+  EXPECT_EQ(solve_with(true, false), 2);
+  EXPECT_EQ(solve_with(true, true), 3);
+  EXPECT_EQ(solve_with(true, false), 3);
+  EXPECT_EQ(solve_with(false, false), 3);
+  EXPECT_EQ(solver.symbolic()->num_rows(), 11);  // the equality blocks. own again (3 + 5 + 3 rows)
+}
+
+// A friction block on a disk of radius mu lambda_n (the normal impulse held at 2 by its bounds):
+// the solvers' impulse is the minimizer of (1/2) x^T K x - x^T r over the disk. Where the
+// unconstrained minimizer lies outside, the reference is the rim point of the KKT conditions,
+// (K + nu I) x = r with |x| = radius, nu >= 0 found by bisection on the monotone |x(nu)| (the
+// solver uses Newton's method on the secular equation in K's eigenbasis), checked against a scan
+// of the rim's angle.
+TEST(Solver, FrictionOnTheDiskIsTheConstrainedMinimizer) {
+  for (uint32_t seed = 1; seed <= 6; ++seed) {
+    System s = random_system(2, std::vector<int>{1, 2}, {false, false}, seed);
+    s.set_bounds(0, 2, 2);
+    const double mu = 0.05 * seed;
+    s.set_friction(1, 0, mu);
+    const Eigen::MatrixXd h = regularized_h(s);
+    const Eigen::Matrix2d k = h.block(1, 1, 2, 2);
+    const Eigen::Vector2d r = Eigen::Vector2d(s.rhs[1], s.rhs[2]) - h.block(1, 0, 2, 1) * 2.0;
+    const double radius = 2 * mu;
+    Eigen::Vector2d expected = k.ldlt().solve(r);
+    if (expected.norm() > radius) {
+      const auto x_of = [&](double nu) { return (k + nu * Eigen::Matrix2d::Identity()).ldlt().solve(r).eval(); };
+      double low = 0, high = 1;
+      while (x_of(high).norm() > radius) high *= 2;
+      for (int i = 0; i < 200; ++i) (x_of(0.5 * (low + high)).norm() > radius ? low : high) = 0.5 * (low + high);
+      expected = x_of(high);
+      const auto energy = [&](double theta) {
+        const Eigen::Vector2d x = radius * Eigen::Vector2d(std::cos(theta), std::sin(theta));
+        return 0.5 * x.dot(k * x) - x.dot(r);
+      };
+      const double at = std::atan2(expected.y(), expected.x());
+      for (int i = 0; i < 3600; ++i) ASSERT_GE(energy(2 * M_PI * i / 3600), energy(at) - 1e-15);  // the rim's minimum
+    }
+    for (SolverKind kind : {SolverKind::pgs, SolverKind::block_gs, SolverKind::ldl_pgs}) {
+      const Outcome o = run(s, kind, 50);
+      EXPECT_NEAR(o.lambda[0], 2, 1e-15);
+      EXPECT_LT(std::hypot(o.lambda[1] - expected(0), o.lambda[2] - expected(1)), 1e-9 * std::max(1.0, radius))
+          << to_string(kind) << " seed " << seed << (expected.norm() < radius * (1 - 1e-9) ? " (inside)" : " (on the rim)");
+    }
+  }
+}
+
 TEST(Solver, LdlPgsBeatsPgsAtTheSameIterationCount) {
   const System s = random_system(13, kSizes, kAllEquality, 10, 1e-6);
   const Eigen::VectorXd expected = regularized_h(s).ldlt().solve(Eigen::Map<const Eigen::VectorXd>(s.rhs.data(), s.num_rows));
