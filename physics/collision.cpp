@@ -3,6 +3,8 @@
 #include "ldlpgs/physics/collision.h"
 
 #include <algorithm>
+#include <array>
+#include <limits>
 #include <mutex>
 
 #include <ode/ode.h>
@@ -42,9 +44,12 @@ double reach(const Shape& s) {
 }  // namespace
 
 struct CollisionWorld::Geometry {
-  dSpaceID space = nullptr;
-  std::vector<dGeomID> geoms;       // (size shapes)
+  std::vector<dGeomID> geoms;       // (size shapes; in no ODE space)
   std::vector<GeomOwner> owners;    // the body and shape of each geom (size shapes)
+  std::vector<char> enabled;        // its body is within the mechanism's ranges this pass (size shapes)
+  std::vector<int> planes;          // the geoms that are planes (unbounded: no sweep)
+  std::vector<int> swept;           // the others, in the order of their boxes' lower x (size shapes - planes)
+  std::vector<std::array<double, 6>> box;  // each geom's bounding box this pass, ODE's order (size shapes)
   std::vector<std::pair<int, int>> excluded;  // body pairs (low, high) that may not touch, sorted
   std::vector<double> reach;        // each body's farthest shape point from its centre (size bodies)
   std::vector<double> margin;       // this pass's inflation of each body's shapes (size bodies)
@@ -52,8 +57,9 @@ struct CollisionWorld::Geometry {
   std::vector<ContactPoint>* out = nullptr;
 
   ~Geometry() {
-    if (space) dSpaceDestroy(space);  // destroys its geoms (cleanup mode on)
+    for (dGeomID geom : geoms) dGeomDestroy(geom);
   }
+  void sweep_and_prune();
   bool excluded_pair(int a, int b) const {
     const std::pair<int, int> key(std::min(a, b), std::max(a, b));
     return std::binary_search(excluded.begin(), excluded.end(), key);
@@ -98,11 +104,11 @@ void place(dGeomID g, const Shape& s, const RigidBody& body, double margin) {
   dGeomSetQuaternion(g, dq);
 }
 
-// dSpaceCollide's callback: a candidate pair (their bounding boxes overlap) to dCollide, unless
+// The broad phase's candidate pair (their bounding boxes overlap) to dCollide, unless
 // the rules of shape.h keep it apart. ODE's normal points into the first geom (moving o1 along it
-// separates them). Body a is the pair's lower index whatever order the space passes them in
-// (sweep and prune's order follows the bodies' coordinates), so that a pair's points keep their
-// identity from step to step (contact.h's matching).
+// separates them). Body a is the pair's lower index whatever order the sweep passes them in (its
+// order follows the bodies' coordinates), so that a pair's points keep their identity from step
+// to step (contact.h's matching).
 void near_callback(void* data, dGeomID o1, dGeomID o2) {
   auto& g = *static_cast<CollisionWorld::Geometry*>(data);
   const GeomOwner& x = g.owners[reinterpret_cast<size_t>(dGeomGetData(o1))];
@@ -155,15 +161,17 @@ bool has_shapes(const Mechanism& m) {
 CollisionWorld::CollisionWorld(const Mechanism& m) : geometry_(std::make_unique<Geometry>()) {
   init_ode();
   Geometry& g = *geometry_;
-  g.space = dSweepAndPruneSpaceCreate(nullptr, dSAP_AXES_XZY);  // (measured fastest; the hash space allocates per pass)
-  dSpaceSetCleanup(g.space, 1);
   for (int b = 0; b < static_cast<int>(m.bodies.size()); ++b)
     for (int s = 0; s < static_cast<int>(m.bodies[b].shapes.size()); ++s) {
-      const dGeomID geom = make_geom(g.space, m.bodies[b].shapes[s]);
-      dGeomSetData(geom, reinterpret_cast<void*>(g.geoms.size()));
+      const dGeomID geom = make_geom(nullptr, m.bodies[b].shapes[s]);
+      const int index = static_cast<int>(g.geoms.size());
+      dGeomSetData(geom, reinterpret_cast<void*>(static_cast<size_t>(index)));
+      (m.bodies[b].shapes[s].type == ShapeType::plane ? g.planes : g.swept).push_back(index);
       g.geoms.push_back(geom);
       g.owners.push_back({b, s});
     }
+  g.enabled.assign(g.geoms.size(), 1);
+  g.box.resize(g.geoms.size());
   g.reach.assign(m.bodies.size(), 0.0);
   g.margin.assign(m.bodies.size(), 0.0);
   for (size_t b = 0; b < m.bodies.size(); ++b)
@@ -195,22 +203,42 @@ void CollisionWorld::detect(const Mechanism& m, double margin, double horizon, s
   }
   for (size_t i = 0; i < g.geoms.size(); ++i) {
     const RigidBody& body = m.bodies[g.owners[i].body];
-    // A body outside the mechanism's ranges (a run that came apart) touches nothing: ODE's hash
-    // space stops the process on bounds beyond its integer grid.
+    // A body outside the mechanism's ranges (a run that came apart) touches nothing (ODE's hash
+    // space stopped the process on bounds beyond its integer grid).
     const bool within = body.position.allFinite() && body.position.cwiseAbs().maxCoeff() <= MechanismRanges::coordinate_max &&
                         body.orientation.coeffs().allFinite();
-    if (!within) {
-      dGeomDisable(g.geoms[i]);
-      continue;
-    }
-    dGeomEnable(g.geoms[i]);
+    g.enabled[i] = within;
+    if (!within) continue;
     place(g.geoms[i], body.shapes[g.owners[i].shape], body, g.margin[g.owners[i].body]);
+    dGeomGetAABB(g.geoms[i], g.box[i].data());
   }
   g.mechanism = &m;
   g.out = out;
-  dSpaceCollide(g.space, &g, &near_callback);
+  g.sweep_and_prune();
   g.mechanism = nullptr;
   g.out = nullptr;
+}
+
+// The broad phase: every plane against every other geom (dCollide tests the plane), and the
+// bounded geoms swept along x, their order kept from the last pass and restored by insertion
+// sort (nearly sorted from one step to the next: linear). ODE's own spaces were measured as
+// fast (papers/physics.md, "Collision detection"), but both allocate on every pass.
+void CollisionWorld::Geometry::sweep_and_prune() {
+  for (int p : planes)
+    for (int i = 0; i < static_cast<int>(geoms.size()); ++i)
+      if (i != p && enabled[i] && enabled[p]) near_callback(this, geoms[p], geoms[i]);
+  const auto lower_x = [&](int i) { return enabled[i] ? box[i][0] : std::numeric_limits<double>::infinity(); };  // (disabled last)
+  for (size_t k = 1; k < swept.size(); ++k)
+    for (size_t j = k; j > 0 && lower_x(swept[j - 1]) > lower_x(swept[j]); --j) std::swap(swept[j - 1], swept[j]);
+  for (size_t k = 0; k < swept.size() && enabled[swept[k]]; ++k) {
+    const std::array<double, 6>& a = box[swept[k]];
+    for (size_t l = k + 1; l < swept.size() && enabled[swept[l]]; ++l) {
+      const std::array<double, 6>& b = box[swept[l]];
+      if (b[0] > a[1]) break;  // (sorted by lower x: no later box reaches back to this one)
+      if (b[2] > a[3] || a[2] > b[3] || b[4] > a[5] || a[4] > b[5]) continue;
+      near_callback(this, geoms[swept[k]], geoms[swept[l]]);
+    }
+  }
 }
 
 }  // namespace ldlpgs

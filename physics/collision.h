@@ -1,8 +1,9 @@
 #pragma once
 // Collision detection: the touching shapes of a mechanism's bodies as contact points. ODE's
-// collision library does the work (spaces for the broad phase, dCollide's primitive pairs for
-// the narrow phase: up to 4 points per pair, a box on a plane gets its 4 corners); chosen by
-// measurement against Bullet and libccd (papers/physics.md, "Collision detection").
+// collision library does the narrow phase (dCollide's primitive pairs: up to 4 points per pair, a
+// box on a plane gets its 4 corners), chosen by measurement against Bullet and libccd; the broad
+// phase is a sweep of ours, since ODE's spaces allocate on every pass (papers/physics.md,
+// "Collision detection").
 #include <memory>
 #include <utility>
 #include <vector>
