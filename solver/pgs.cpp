@@ -78,6 +78,13 @@ void pgs_friction_disk(const System& system, const RowCache& cache, int k, std::
     return;
   }
   const int i = b.position;
+  const double radius = b.friction * std::max(0.0, lambda[b.friction_row]);
+  if (radius == 0) {  // no normal impulse (a speculative contact not reached): no friction
+    add_row_impulse(system, cache, k, 0, -lambda[i], dv);
+    add_row_impulse(system, cache, k, 1, -lambda[i + 1], dv);
+    lambda[i] = lambda[i + 1] = 0;
+    return;
+  }
   // The block's exact step on its disk: x = lambda_new minimizes (1/2) x^T K x + x^T (g - K lambda)
   // with K = the block's N_k + E diag(N_k), g = J dV - R + E diag(N_k) lambda, |x| <= mu lambda_n:
   // maximal dissipation, the friction opposing the slip that remains (a per-row step and a
@@ -95,7 +102,7 @@ void pgs_friction_disk(const System& system, const RowCache& cache, int k, std::
   const double g1 = row_times(system, k, 1, dv) - system.rhs[i + 1] + eps1 * cache.diag[i + 1] * l1;
   const double bvec[2] = {g0 - (k11 * l0 + k12 * l1), g1 - (k12 * l0 + k22 * l1)};
   double x[2];
-  disk_minimizer(k11, k12, k22, bvec, b.friction * std::max(0.0, lambda[b.friction_row]), x);
+  disk_minimizer(k11, k12, k22, bvec, radius, x);
   lambda[i] = x[0];
   lambda[i + 1] = x[1];
   add_row_impulse(system, cache, k, 0, x[0] - l0, dv);
