@@ -83,6 +83,15 @@ StepOptions step_options(const StepArgs& a) {
 }
 
 // The scene's own bodies, each as its shards move (physics/shatter.h: whole_body).
+// A CSV file the run writes into, with its header (none when `path` is empty).
+void open_csv(const std::string& path, const char* what, const char* header, std::ofstream* out) {
+  if (path.empty()) return;
+  out->open(path);
+  if (!*out) throw InputError(path + ": cannot write " + what);
+  *out << header << '\n';
+  out->precision(17);
+}
+
 // The last step's contact points, one CSV row each.
 void write_contact_rows(std::ofstream& out, int step, const Simulation& sim) {
   const Mechanism& m = sim.mechanism();
@@ -122,20 +131,10 @@ int run_step(const StepArgs& a) {
   if (options.solver.kind == SolverKind::direct && m.first_inequality() >= 0)
     throw InputError(a.scene + ": solver direct solves equality constraints only, and the scene has a " +
                      to_string(m.constraints[m.first_inequality()].type) + " (use ldl-pgs)");
-  std::ofstream contacts_out;
-  if (!a.contacts_file.empty()) {
-    contacts_out.open(a.contacts_file);
-    if (!contacts_out) throw InputError(a.contacts_file + ": cannot write the contacts file");
-    contacts_out << "step,time,body_a,body_b,x,y,z,nx,ny,nz,depth_m,impulse_normal,impulse_t1,impulse_t2,factored\n";
-    contacts_out.precision(17);
-  }
-  std::ofstream trace;
-  if (!a.trace.empty()) {
-    trace.open(a.trace);
-    if (!trace) throw InputError(a.trace + ": cannot write the trace file");
-    trace << "step,time,body,x,y,z,qw,qx,qy,qz,fx,fy,fz,tx,ty,tz\n";
-    trace.precision(17);
-  }
+  std::ofstream contacts_out, trace;
+  open_csv(a.contacts_file, "the contacts file",
+           "step,time,body_a,body_b,x,y,z,nx,ny,nz,depth_m,impulse_normal,impulse_t1,impulse_t2,factored", &contacts_out);
+  open_csv(a.trace, "the trace file", "step,time,body,x,y,z,qw,qx,qy,qz,fx,fy,fz,tx,ty,tz", &trace);
   const double energy_initial = total_energy(m);
   // The scene's constant loads, printed so that a driven run says what drives it.
   int loaded = 0;

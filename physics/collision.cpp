@@ -221,8 +221,8 @@ void CollisionWorld::detect(const Mechanism& m, double margin, double horizon, s
 
 // The broad phase: every plane against every other geom (dCollide tests the plane), and the
 // bounded geoms swept along x, their order kept from the last pass and restored by insertion
-// sort (nearly sorted from one step to the next: linear). ODE's own spaces were measured as
-// fast (papers/physics.md, "Collision detection"), but both allocate on every pass.
+// sort (nearly sorted from one step to the next: linear). ODE's own spaces allocate on every
+// pass (papers/physics.md, "Collision detection").
 void CollisionWorld::Geometry::sweep_and_prune() {
   for (int p : planes)
     for (int i = 0; i < static_cast<int>(geoms.size()); ++i)

@@ -36,28 +36,24 @@ struct ContactOptions {
   // ldl-pgs: a contact pushing (positive normal impulse) for this many steps in a row joins the
   // LDL block with its normal row (RowBlock::factored); 0: never, the talk's schedule.
   int factor_after = 2;
-  // ... also on a body that an equality constraint holds. Off: such a contact and the joints
-  // are often redundant (a chain lying on the ground), H singular on them with inconsistent
-  // targets, and the exact solve blew up the chain of papers/physics.md, "Contacts in the
-  // factor"; those contacts stay PGS rows (the talk's schedule).
+  // ... also on a body that an equality constraint holds. Off: such a contact is often redundant
+  // with the joints (a chain lying on the ground) and their targets disagree, so it stays a
+  // projected row (papers/physics.md, "Contacts in the factor").
   bool factor_jointed = false;
-  // ldl-pgs's schedule on a step with contacts (SolverOptions::schedule on steps without): the
-  // talk's single block sweep after the PGS sweeps let a driven tracked vehicle's contact and
-  // joint impulses feed each other until it came apart; alternating the two converges
-  // (papers/physics.md, "Schedules with contacts").
+  // ldl-pgs's schedule on a step with contacts (SolverOptions::schedule on steps without):
+  // alternating the exact block and the contact rows converges where the talk's single block
+  // sweep lets them feed each other (papers/physics.md, "Schedules with contacts").
   HybridSchedule schedule = HybridSchedule::block_gs;
-  // ... and the post-stabilization's, with this many iterations (block sweeps: LDL^T solves
-  // with the step's factor), on a step with contacts: the inequality-pgs sweeps of a step
-  // without them left a falling humanoid's correction unconverged, undone, and a contact 6.1 mm
-  // deep against 5.1 (papers/physics.md, "Schedules with contacts").
+  // ... and the post-stabilization's, with this many iterations (LDL^T solves with the step's
+  // factor), on a step with contacts.
   int position_iterations = 10;
   // A factored normal row's regularization and compliance (RowBlock::regularization, System::
   // compliance): a manifold's points are redundant (4 rows, 3 degrees of freedom), and so are
   // contacts and joints holding the same body, so H is singular on them; what the exact solve
   // puts in that null space, when a projection has left the right-hand side outside J's range,
   // is that part divided by the compliance. The compliance softens the contact (a velocity
-  // error of eps H_ii lambda); the regularization damps each step without softening it.
-  // Chosen by measurement (papers/physics.md, "Contacts in the factor").
+  // error of eps H_ii lambda); the regularization damps each step without softening it
+  // (papers/physics.md, "Contacts in the factor").
   double regularization = 1e-3;
   double compliance = 1e-6;
 };

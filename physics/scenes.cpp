@@ -709,6 +709,12 @@ bool parse_ratio(std::string_view s, double* r) {
   return ec == std::errc() && end == s.data() + s.size() && std::isfinite(*r) && *r > 0;
 }
 
+// "N-R": a count and a ratio (heavy-chain-N-R, ball-chain-N-R).
+bool parse_count_ratio(std::string_view s, int* n, double* r) {
+  const size_t dash = s.find('-');
+  return dash != std::string_view::npos && parse_count(s.substr(0, dash), n) && parse_ratio(s.substr(dash + 1), r);
+}
+
 }  // namespace
 
 std::vector<std::string> builtin_scene_names() {
@@ -750,26 +756,18 @@ bool builtin_scene(std::string_view name, Mechanism* mechanism) {
     if (!parse_count(name.substr(kPyramid.size()), &n) || n > 100) return false;  // (100 layers: 5050 cubes)
     *mechanism = pyramid(std::string(name), n);
   } else if (name.starts_with(kBallChain)) {
-    const std::string_view rest = name.substr(kBallChain.size());
-    const size_t dash = rest.find('-');
     int n = 0;
     double ratio = 0;
-    if (dash == std::string_view::npos || !parse_count(rest.substr(0, dash), &n) ||
-        !parse_ratio(rest.substr(dash + 1), &ratio))
-      return false;
+    if (!parse_count_ratio(name.substr(kBallChain.size()), &n, &ratio)) return false;
     *mechanism = ball_chain(std::string(name), n, ratio);
   } else if (name.starts_with(kChain)) {
     int n = 0;
     if (!parse_count(name.substr(kChain.size()), &n)) return false;
     *mechanism = chain(std::string(name), n, false, 1);
   } else if (name.starts_with(kHeavy)) {
-    const std::string_view rest = name.substr(kHeavy.size());
-    const size_t dash = rest.find('-');
     int n = 0;
     double ratio = 0;
-    if (dash == std::string_view::npos || !parse_count(rest.substr(0, dash), &n) ||
-        !parse_ratio(rest.substr(dash + 1), &ratio))
-      return false;
+    if (!parse_count_ratio(name.substr(kHeavy.size()), &n, &ratio)) return false;
     *mechanism = chain(std::string(name), n, true, ratio);
   } else {
     return false;
