@@ -415,7 +415,7 @@ double Simulation::contact_rows(bool velocity, bool with_jacobian) {
   const double dt = mechanism_.timestep;
   double worst = 0;
   for (size_t i = 0; i < contacts_.size(); ++i) {
-    Contact& con = contacts_[i];
+    const Contact& con = contacts_[i];
     const RigidBody &a = mechanism_.bodies[con.body_a], &b = mechanism_.bodies[con.body_b];
     const ConstraintRows rows = evaluate(con, a, b);
     const int kn = joint_blocks_ + 2 * static_cast<int>(i), kf = kn + 1;
@@ -455,12 +455,9 @@ double Simulation::contact_rows(bool velocity, bool with_jacobian) {
     const double separation = rows.c[0];
     double target = 0;
     if (con.factored) {
-      // In the LDL block the targets must be consistent (in the range of J): J V = t is solved
-      // exactly, and a part of t outside the range (a clamp, a threshold) is divided by the
-      // compliance alone. The joints' Baumgarte term, -beta c / dt, is affine in c; so is this
-      // one, with the same beta and no slop, so that contacts and joints ask the same motion of a
-      // body that both hold (a chain lying on the ground). (The speculative margin keeps a
-      // contact pushed out to zero depth in the detector's view.)
+      // J V1 = 0: in the LDL block the targets must be consistent (in J's range), since the part
+      // of them outside it (a clamp, a threshold, a slop) is divided by the compliance alone;
+      // the post-stabilization corrects the depth (papers/physics.md, "Contacts in the factor").
       target = 0;
     } else {
       target = separation > 0 ? -separation / dt
