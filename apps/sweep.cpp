@@ -95,7 +95,7 @@ std::vector<SweepPoint> speed_vs_error(const std::vector<std::string>& cases, co
     const Mechanism m = load_mechanism(scene);
     for (const char* solver : {"pgs", "block-gs", "ldl-pgs"})
       for (int it : iterations) points.push_back(run_case(m, scene, solver, it, seconds));
-    if (m.first_inequality() < 0 && !has_shapes(m)) points.push_back(run_case(m, scene, "direct", 1, seconds));
+    if (equality_only(m)) points.push_back(run_case(m, scene, "direct", 1, seconds));
   }
   return points;
 }
@@ -129,7 +129,7 @@ std::vector<Breakdown> stability(const std::vector<std::string>& cases, int iter
     Mechanism base = load_mechanism(scene);
     base.timestep = std::min(base.timestep, 0.0025);  // below the integrator's own centimetre (papers/physics.md)
     std::vector<std::string> solvers = {"pgs", "block-gs", "ldl-pgs"};
-    if (base.first_inequality() < 0 && !has_shapes(base)) solvers.push_back("direct");
+    if (equality_only(base)) solvers.push_back("direct");
     for (const std::string& solver : solvers) {
       Breakdown b{scene, solver, solver == "direct" ? 1 : iterations, 0, 0, ""};
       // the load made 10^k times heavier, k = 0..9: the mass ratios the scene reaches from its own

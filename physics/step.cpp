@@ -200,6 +200,8 @@ void rotate(RigidBody& b, const Eigen::Vector3d& dtheta) {
 
 }  // namespace
 
+bool equality_only(const Mechanism& m) { return m.first_inequality() < 0 && !has_shapes(m); }
+
 int post_stabilize_iterations(const StepOptions& options) {
   if (options.post_stabilize != StepOptions::kAutoPostStabilize) return options.post_stabilize;
   const bool factors = options.solver.kind == SolverKind::ldl_pgs || options.solver.kind == SolverKind::direct;
@@ -256,7 +258,7 @@ void Simulation::make_projector() {
     // which calls solve() and so would run the velocity level's iterations, not
     // post_stabilize_sweeps.
     SolverOptions o = options_.solver;
-    o.kind = mechanism_.first_inequality() >= 0 || collision_ ? SolverKind::ldl_pgs : SolverKind::direct;
+    o.kind = equality_only(mechanism_) ? SolverKind::direct : SolverKind::ldl_pgs;
     o.iterations = options_.post_stabilize_sweeps;
     o.schedule = HybridSchedule::inequality_pgs;
     projector_ = std::make_unique<Solver>(system_, o);
@@ -562,11 +564,11 @@ StepReport Simulation::step() {
     report.post_stabilize_us = us(solve_end, Clock::now());
   }
   time_ += dt;
-  report.penetration_max_m = penetration_max();
   report.step_us = us(start, Clock::now());
   if (options_.diagnostics) {
     report.error = constraint_error(m);
     report.energy = total_energy(m);
+    report.penetration_max_m = penetration_max();
   }
   return report;
 }

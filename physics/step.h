@@ -63,12 +63,16 @@ struct StepOptions {
   // -(dt/2) V^T c'' V, measured as c(q0 + dt V) - c0 - dt J V (one more evaluation of every
   // constraint per step): the energy-consistent variant of papers/physics.md.
   bool curvature_target = false;
-  // Fill StepReport's error, velocity residual and energy (costs one more evaluation of every
-  // constraint per step; the CLI asks, a library stepping for speed need not).
+  // Fill StepReport's error, velocity residual, energy and deepest contact (costs one more
+  // evaluation of every constraint and contact per step; the CLI asks, a library stepping for
+  // speed need not).
   bool diagnostics = false;
   // Bodies' shapes that touch become contact rows (physics/contact.h).
   ContactOptions contacts;
 };
+
+// No inequality rows (limits, ropes) and no shapes (contacts): what the direct solver steps.
+bool equality_only(const Mechanism& mechanism);
 
 // Position errors over all constraint rows, at the current pose: equality rows |c|, inequality
 // rows max(0, -c) (only violation counts).
@@ -95,13 +99,13 @@ struct StepReport {
   double step_us = 0;             // the whole step
   double contact_us = 0;          // collision detection and the contacts' matching
   int contacts = 0;               // contact points this step
-  double penetration_max_m = 0;   // the deepest penetration of this step's contact points, after it
   int post_stabilize_iterations = 0;  // done (0 when off, or skipped after a failed factorization)
   SolveResult result;             // a failed factorization is reported here (the PGS impulses are used)
   // With StepOptions::diagnostics (zero otherwise):
   ConstraintError error;          // after the step
   double velocity_residual = 0;   // max |J V1 - target| as solver.h defines it (m/s, rad/s)
   double energy = 0;              // after the step
+  double penetration_max_m = 0;   // the deepest of this step's contact points after it (m)
 };
 
 // A run that has come apart (issue 14: at a mass ratio of 1e12 every solver ended a 5 m heavy

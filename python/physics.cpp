@@ -215,9 +215,9 @@ void bind_physics(py::module_& m) {
           py::arg("n") = 1,
           "n steps; over them the failed steps (a factorization that failed: the PGS "
           "impulses were used) and the first failure's message, the largest position (m) and angular (rad) "
-          "errors and velocity residual (with diagnostics), post-stabilization iterations, the median "
-          "solve, step and collision detection times (us), the most contact points in a step and the deepest "
-          "penetration after a step (m), named as in the program's --json (README, Command-line vocabulary).")
+          "errors, velocity residual and deepest penetration after a step (m) (with diagnostics), "
+          "post-stabilization iterations, the median solve, step and collision detection times (us) and the "
+          "most contact points in a step, named as in the program's --json (README, Command-line vocabulary).")
       .def(
           "add_shape",
           [](Simulation& sim, py::handle body, const std::string& type, py::handle position, py::handle orientation,

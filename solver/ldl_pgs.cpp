@@ -1,9 +1,9 @@
 // ldl-pgs, the talk's hybrid: N-1 PGS sweeps over all rows, then one block Gauss-Seidel sweep
 // in which every equality row belongs to one block (index 0) solved exactly by the sparse
-// block LDL^T, and each inequality row is solved and projected on its own. Inequality rows
-// marked `factored` (contacts that stay active) join the exact block and are then projected. PGS brings the
+// block LDL^T, and each inequality row is solved and projected on its own. PGS brings the
 // inequality impulses near their active set; the exact block then removes the equality error
-// that PGS leaves on long chains, heavy loads and loops.
+// that PGS leaves on long chains, heavy loads and loops. Inequality rows marked `factored`
+// (contacts that keep pushing) join the exact block, held at their bounds by block pivoting.
 #include "ldlpgs/solver/ldl_block.h"
 
 #include <algorithm>

@@ -78,7 +78,7 @@ void pgs_friction_disk(const System& system, const RowCache& cache, int k, std::
     return;
   }
   const int i = b.position;
-  const double radius = b.friction * std::max(0.0, lambda[b.friction_row]);
+  const double radius = friction_radius(b, lambda);
   if (radius == 0) {  // no normal impulse (a speculative contact not reached): no friction
     add_row_impulse(system, cache, k, 0, -lambda[i], dv);
     add_row_impulse(system, cache, k, 1, -lambda[i + 1], dv);
@@ -115,7 +115,7 @@ void project_onto_bounds(const System& system, std::span<double> lambda) {
       for (int i = b.position; i < b.position + b.size; ++i) lambda[i] = std::clamp(lambda[i], system.lower[i], system.upper[i]);
       continue;
     }
-    const double radius = b.friction * std::max(0.0, lambda[b.friction_row]);
+    const double radius = friction_radius(b, lambda);
     double sq = 0;
     for (int i = b.position; i < b.position + b.size; ++i) {
       if (b.friction_pyramid) lambda[i] = std::clamp(lambda[i], -radius, radius);

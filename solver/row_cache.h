@@ -39,6 +39,11 @@ inline void add_row_impulse(const System& system, const RowCache& cache, int k, 
     for (int c = 0; c < 6; ++c) dv[6 * b.column_b + c] += w[6 + c] * dlambda;
 }
 
+// A friction block's bound now, mu max(0, lambda_n): the disk's radius, or each row's (pyramid).
+inline double friction_radius(const RowBlock& b, std::span<const double> lambda) {
+  return b.friction * std::max(0.0, lambda[b.friction_row]);
+}
+
 // Row i's bounds now: its own, or +-mu lambda_n on a friction row (pyramid; the disk is projected
 // per block by pgs_block).
 inline void row_bounds(const System& system, const RowBlock& b, int i, std::span<const double> lambda, double* lo,
@@ -48,7 +53,7 @@ inline void row_bounds(const System& system, const RowBlock& b, int i, std::span
     *hi = system.upper[i];
     return;
   }
-  *hi = b.friction * std::max(0.0, lambda[b.friction_row]);
+  *hi = friction_radius(b, lambda);
   *lo = -*hi;
 }
 

@@ -9,7 +9,6 @@
 #include <stdexcept>
 #include <string_view>
 
-
 #include "ldlpgs/solver/block_gs.h"
 #include "ldlpgs/solver/ldl_block.h"
 #include "ldlpgs/sparse/error.h"
@@ -105,11 +104,10 @@ void warm_start(const System& system, std::span<double> lambda, std::span<double
 SolveResult Solver::solve(const System& system, std::span<double> lambda, std::span<double> dv,
                           std::optional<HybridSchedule> schedule) {
   SolverState& s = *state_;
-  if (options_.kind == SolverKind::direct)
-    for (const RowBlock& b : system.blocks)
-      if (!b.equality) throw ArgumentError("Solver: direct takes equality rows only (an inequality block was given)");
-  s.rows.update(system);
   s.exact = std::all_of(system.blocks.begin(), system.blocks.end(), [](const RowBlock& b) { return b.equality; });
+  if (options_.kind == SolverKind::direct && !s.exact)
+    throw ArgumentError("Solver: direct takes equality rows only (an inequality block was given)");
+  s.rows.update(system);
   if (s.factors) s.factor = s.ldl_for(system).factorize(system, s.rows);
   if (options_.kind == SolverKind::block_gs) s.blocks.update(system);
   return resolve(system, lambda, dv, 0, schedule);
@@ -161,7 +159,7 @@ double friction_disk_residual(const System& system, int k, std::span<const doubl
     l_sq += lambda[i] * lambda[i];
     along += g[r] * lambda[i];
   }
-  const double radius = b.friction * std::max(0.0, lambda[b.friction_row]);
+  const double radius = friction_radius(b, lambda);
   if (radius == 0) return 0;
   if (std::sqrt(l_sq) < radius * (1 - 1e-12)) return std::sqrt(g_sq);
   const double along_unit = along / std::sqrt(l_sq);  // g . lambda / |lambda|

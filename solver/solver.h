@@ -18,11 +18,11 @@
 // structure; solve() is the numeric phase, every step, and may be called with any System whose
 // factored blocks (the equalities, and bounded blocks marked `factored`) are the same; blocks
 // that are not factored (contacts) may come and go between calls. A new set of factored blocks
-// runs the symbolic phase again, kept for reuse (SymbolicStats). Lambda is warm-started: solve() starts from the lambda it is given. resolve()
-// solves again with the last solve's matrix (its factor and caches) and a new right-hand side:
-// the position projection of physics/step.h.
-#include <memory>
+// runs the symbolic phase again, kept for reuse (SymbolicStats). Lambda is warm-started: solve()
+// starts from the lambda it is given. resolve() solves again with the last solve's matrix (its
+// factor and caches) and a new right-hand side: the position projection of physics/step.h.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>

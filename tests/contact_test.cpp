@@ -246,6 +246,7 @@ StackResult run_stack(SolverKind kind, int factor_after, int steps) {
   StepOptions o;
   o.solver.kind = kind;
   o.contacts.factor_after = factor_after;
+  o.diagnostics = true;  // (the deepest contact)
   Simulation sim(scene("box-stack-1000"), o);
   const int heavy = sim.mechanism().find_body("heavy");
   const double start = sim.mechanism().bodies[heavy].position.y();
@@ -274,7 +275,9 @@ TEST(ContactStep, HeavyBoxOnALightOneHoldsWithContactsInTheFactorWherePgsSinks) 
 }
 
 TEST(ContactStep, PyramidOf55BoxesStands) {
-  Simulation sim(scene("pyramid-10"), StepOptions{});
+  StepOptions o;
+  o.diagnostics = true;  // (the deepest contact)
+  Simulation sim(scene("pyramid-10"), o);
   const int top = static_cast<int>(sim.mechanism().bodies.size()) - 1;
   const Vector3d start = sim.mechanism().bodies[top].position;
   double penetration = 0;
