@@ -42,8 +42,8 @@ struct Mechanism {
 // underflows: W (1/m, R diag(1/I) R^T), J (lever arms r = anchor - centre), H = J W J^T (entries
 // up to 1/m + |r|^2 / I, at most 4e118 at the corners below), impulses, energies (m |v|^2 <=
 // 1e68) and the velocity step (|W F dt| <= 1e103). "Finite and positive" is not enough: a mass
-// of 1e-320 (1/m = inf), an anchor at 1e155 (|r|^2 = inf) or a coordinate of 1e308 gave an H of
-// NaN and inf (issue 14). These bound representability only: how accurately a solver handles a
+// of 1e-320 (1/m = inf), an anchor at 1e155 (|r|^2 = inf) or a coordinate of 1e308 gives an H of
+// NaN and inf. These bound representability only: how accurately a solver handles a
 // mechanism near them (a mass ratio of 1e12, a coordinate of 1e9 m whose rounding is 1e-7 m) is
 // another matter (README, "Supported range").
 struct MechanismRanges {

@@ -86,7 +86,7 @@ constexpr double kMeet = 1e-9;
 // s^2, so their error is ~ eps |anchors| / s^2, and the meeting test needs it within kMeet
 // |anchors|. The rows themselves shrink with s too (the universal joint's rod between P + L n1
 // and P + L n2 has length L s). A fixed 1e-9 on s let axes 1e-8 apart through, where 1 - k^2
-// rounded to 0 and H was all NaN (issue 14); the test is relative to the anchors' scale, which
+// rounded to 0 and H was all NaN; the test is relative to the anchors' scale, which
 // the tolerance on the points carries.
 const double kIndependent = std::sqrt(std::numeric_limits<double>::epsilon() / kMeet);
 // A weld's relpose equals the pose at qpos0 to this (relative position, quaternion vector part).
@@ -321,130 +321,167 @@ class Converter {
     if (j.limited) add(make_positional_limit(p, at(p), b, at(b), anchor, j.axis, j.lo, j.hi));
   }
 
-  // The joints between body b and its parent p as rows (the table in mjcf.h).
-  void joint_rows(int b) {
-    const RigidBody& child = at(b);
-    if (child.is_static) return;  // welded to the world: no joints, nothing to hold
-    const int p = m_->body_parentid[b];
-    std::vector<Joint> hinges, slides, all;  // in MuJoCo's order (sizes: the body's joints)
+  // The joints of body b (in MuJoCo's order), and a label naming them for refusals.
+  struct JointSet {
+    int parent = -1, body = -1;
+    std::vector<Joint> hinges, slides, all;  // (sizes: the body's joints)
+    std::string label;
+  };
+  JointSet joint_set(int b) const {
+    JointSet set;
+    set.parent = m_->body_parentid[b];
+    set.body = b;
     for (int j = m_->body_jntadr[b]; j < m_->body_jntadr[b] + m_->body_jntnum[b]; ++j) {
-      all.push_back(joint(j));
-      if (all.back().type == mjJNT_HINGE) hinges.push_back(all.back());
-      if (all.back().type == mjJNT_SLIDE) slides.push_back(all.back());
+      set.all.push_back(joint(j));
+      if (set.all.back().type == mjJNT_HINGE) set.hinges.push_back(set.all.back());
+      if (set.all.back().type == mjJNT_SLIDE) set.slides.push_back(set.all.back());
     }
-    std::string label = body_label(b);
-    if (!all.empty()) {
-      label += ": joints";
-      for (size_t k = 0; k < all.size(); ++k) {
-        label += k ? ", " : " ";
-        label += name(m_->name_jntadr[all[k].id], "joint", all[k].id);
-        label += " (";
-        label += joint_type_name(all[k].type);
-        label += ")";
+    set.label = body_label(b);
+    if (!set.all.empty()) {
+      set.label += ": joints";
+      for (size_t k = 0; k < set.all.size(); ++k) {
+        set.label += k ? ", " : " ";
+        set.label += name(m_->name_jntadr[set.all[k].id], "joint", set.all[k].id);
+        set.label += " (";
+        set.label += joint_type_name(set.all[k].type);
+        set.label += ")";
       }
     }
-    // What rows the set would need, for refusals: 3 - (independent slides) translational and
-    // 3 - (independent hinges; 3 with a ball) rotational.
-    auto refuse = [&](const std::string& why) {
-      std::string s = why;
-      s += "; our constraint types (physics/constraint.h) have no such rows";
-      fail(label, s);
-    };
+    return set;
+  }
+  // A joint set our constraint types cannot express.
+  [[noreturn]] void refuse(const JointSet& set, const std::string& why) const {
+    std::string s = why;
+    s += "; our constraint types (physics/constraint.h) have no such rows";
+    fail(set.label, s);
+  }
 
-    if (all.empty()) {  // rigidly attached to a moving parent
-      add(make_axial(ConstraintType::weld, p, at(p), b, child, child.position, Vector3d::UnitX()));
-      return;
+  // The joints between body b and its parent as rows (the table in mjcf.h): what rows a set
+  // needs is 3 - (independent slides) translational and 3 - (independent hinges; 3 with a ball)
+  // rotational.
+  void joint_rows(int b) {
+    if (at(b).is_static) return;  // welded to the world: no joints, nothing to hold
+    const JointSet set = joint_set(b);
+    const int p = set.parent;
+    const size_t hinges = set.hinges.size(), slides = set.slides.size();
+    if (set.all.empty()) {  // rigidly attached to a moving parent
+      add(make_axial(ConstraintType::weld, p, at(p), b, at(b), at(b).position, Vector3d::UnitX()));
+    } else if (set.all.size() == 1 && set.all[0].type == mjJNT_FREE) {
+      // six degrees of freedom: no rows
+    } else if (set.all.size() == 1 && set.all[0].type == mjJNT_BALL) {
+      add(make_ball(p, at(p), b, at(b), set.all[0].anchor));
+      if (m_->jnt_limited[set.all[0].id] && !(m_->opt.disableflags & mjDSBL_LIMIT)) ++dropped_->ranges;  // a cone
+    } else if (hinges + slides != set.all.size()) {
+      refuse(set, "a free or ball joint combined with other joints");
+    } else if (hinges + slides == 1 || (hinges == 1 && slides == 1)) {
+      axial_rows(set);
+    } else if (slides > 0) {
+      refuse_slides(set);
+    } else if (hinges > 3) {
+      refuse(set, "more than three hinges");
+    } else {
+      require_independent_hinges(set);
+      if (hinges == 3) meeting_hinges_rows(set);
+      else universal_rows(set);
     }
-    if (all.size() == 1 && all[0].type == mjJNT_FREE) return;  // six degrees of freedom: no rows
-    if (all.size() == 1 && all[0].type == mjJNT_BALL) {
-      add(make_ball(p, at(p), b, child, all[0].anchor));
-      if (m_->jnt_limited[all[0].id] && !(m_->opt.disableflags & mjDSBL_LIMIT)) ++dropped_->ranges;  // a cone
-      return;
-    }
-    if (hinges.size() + slides.size() != all.size())
-      refuse("a free or ball joint combined with other joints");
+  }
 
-    if (slides.empty() && hinges.size() == 1) {
-      const Joint& h = hinges[0];
-      add(make_axial(ConstraintType::hinge, p, at(p), b, child, h.anchor, h.axis));
+  // One hinge, one slide, or a hinge and a slide on one axis: a hinge, prismatic or cylindrical
+  // joint with the limits of its coordinates.
+  void axial_rows(const JointSet& set) {
+    const int p = set.parent, b = set.body;
+    if (set.slides.empty()) {
+      const Joint& h = set.hinges[0];
+      add(make_axial(ConstraintType::hinge, p, at(p), b, at(b), h.anchor, h.axis));
       angular_limit(p, b, h);
-      return;
-    }
-    if (hinges.empty() && slides.size() == 1) {
-      const Joint& s = slides[0];
-      add(make_axial(ConstraintType::prismatic, p, at(p), b, child, child.position, s.axis));
-      positional_limit(p, b, child.position, s);
-      return;
-    }
-    if (hinges.size() == 1 && slides.size() == 1) {
-      const Joint &h = hinges[0], &s = slides[0];
+    } else if (set.hinges.empty()) {
+      const Joint& s = set.slides[0];
+      add(make_axial(ConstraintType::prismatic, p, at(p), b, at(b), at(b).position, s.axis));
+      positional_limit(p, b, at(b).position, s);
+    } else {
+      const Joint &h = set.hinges[0], &s = set.slides[0];
       if (h.axis.cross(s.axis).norm() > kSameAxis)
-        refuse("a hinge and a slide on different axes (1 rotational and 1 translational degree of freedom off "
-               "one axis: 2 translational and 2 rotational rows not of a cylindrical joint)");
-      add(make_axial(ConstraintType::cylindrical, p, at(p), b, child, h.anchor, h.axis));
+        refuse(set, "a hinge and a slide on different axes (1 rotational and 1 translational degree of freedom off "
+                    "one axis: 2 translational and 2 rotational rows not of a cylindrical joint)");
+      add(make_axial(ConstraintType::cylindrical, p, at(p), b, at(b), h.anchor, h.axis));
       angular_limit(p, b, h);
       positional_limit(p, b, h.anchor, s);
-      return;
     }
-    if (!slides.empty()) {
-      std::string why = std::to_string(slides.size());
-      why += " slides and ";
-      why += std::to_string(hinges.size());
-      why += " hinges (would need ";
-      why += std::to_string(3 - static_cast<int>(slides.size()));
-      why += " translational and ";
-      why += std::to_string(3 - static_cast<int>(hinges.size()));
-      why += " rotational rows";
-      why += slides.size() == 3 && hinges.empty() ? ": an orientation-only constraint)" : ")";
-      refuse(why);
-    }
-    if (hinges.size() > 3) refuse("more than three hinges");
+  }
 
-    // Two or three hinges with independent axes (parallel ones would be a hinge with a
-    // redundant coordinate).
-    const double sine = hinges.size() == 2 ? hinges[0].axis.cross(hinges[1].axis).norm()
-                                           : std::abs(hinges[0].axis.dot(hinges[1].axis.cross(hinges[2].axis)));
+  [[noreturn]] void refuse_slides(const JointSet& set) const {
+    const size_t slides = set.slides.size(), hinges = set.hinges.size();
+    std::string why = std::to_string(slides);
+    why += " slides and ";
+    why += std::to_string(hinges);
+    why += " hinges (would need ";
+    why += std::to_string(3 - static_cast<int>(slides));
+    why += " translational and ";
+    why += std::to_string(3 - static_cast<int>(hinges));
+    why += " rotational rows";
+    why += slides == 3 && hinges == 0 ? ": an orientation-only constraint)" : ")";
+    refuse(set, why);
+  }
+
+  // Two or three hinges with independent axes (parallel ones would be a hinge with a redundant
+  // coordinate).
+  void require_independent_hinges(const JointSet& set) const {
+    const std::vector<Joint>& h = set.hinges;
+    const double sine = h.size() == 2 ? h[0].axis.cross(h[1].axis).norm()
+                                      : std::abs(h[0].axis.dot(h[1].axis.cross(h[2].axis)));
     if (!(sine >= kIndependent)) {
       std::string why = "hinges with dependent (parallel or coplanar) axes (sine ";
       why += format_number(sine);
       why += ", below ";
       why += format_number(kIndependent);
       why += ": the rows would be singular to rounding)";
-      refuse(why);
+      refuse(set, why);
     }
-    double size = 1;  // the anchors' scale, for the meeting tolerance
-    for (const Joint& h : hinges) size = std::max(size, h.anchor.norm());
-    if (hinges.size() == 3) {
-      // P minimizes sum_i |(I - n_i n_i^T)(P - a_i)|^2: (sum_i Q_i) P = sum_i Q_i a_i, Q_i the
-      // projector across axis i (invertible for independent axes). If all three lines pass
-      // through P, P stays fixed in both bodies and all rotation is free: a ball.
-      Matrix3d q_sum = Matrix3d::Zero();
-      Vector3d rhs = Vector3d::Zero();
-      for (const Joint& h : hinges) {
-        const Matrix3d q = Matrix3d::Identity() - h.axis * h.axis.transpose();
-        q_sum += q;
-        rhs += q * h.anchor;
-      }
-      const Vector3d point = q_sum.fullPivLu().solve(rhs);
-      for (const Joint& h : hinges) {
-        const double miss = ((Matrix3d::Identity() - h.axis * h.axis.transpose()) * (point - h.anchor)).norm();
-        if (miss > kMeet * size) {
-          std::string why = "three hinges whose axes do not meet in one point (";
-          why += format_number(miss);
-          why += " m off): the child's translation then depends on its rotation";
-          refuse(why);
-        }
-      }
-      add(make_ball(p, at(p), b, child, point));
-      // Their ranges bound Euler angles, which our limits (one angle about one axis) cannot
-      // measure.
-      for (const Joint& h : hinges) dropped_->ranges += h.limited ? 1 : 0;
-      return;
+  }
+
+  // The anchors' scale, for the meeting tolerance.
+  static double anchor_scale(const JointSet& set) {
+    double size = 1;
+    for (const Joint& h : set.hinges) size = std::max(size, h.anchor.norm());
+    return size;
+  }
+
+  // Three hinges whose axes meet in one point P: P stays fixed in both bodies and all rotation is
+  // free, a ball. P minimizes sum_i |(I - n_i n_i^T)(P - a_i)|^2: (sum_i Q_i) P = sum_i Q_i a_i,
+  // Q_i the projector across axis i (invertible for independent axes).
+  void meeting_hinges_rows(const JointSet& set) {
+    const int p = set.parent, b = set.body;
+    Matrix3d q_sum = Matrix3d::Zero();
+    Vector3d rhs = Vector3d::Zero();
+    for (const Joint& h : set.hinges) {
+      const Matrix3d q = Matrix3d::Identity() - h.axis * h.axis.transpose();
+      q_sum += q;
+      rhs += q * h.anchor;
     }
-    // Universal joint (mjcf.h): the closest points P1 = a1 + s n1 (on the parent) and
-    // P2 = a2 + t n2 (on the child) of the two axis lines, from (P2 - P1) . n1 = (P2 - P1) . n2 = 0:
-    // with w = a1 - a2, k = n1.n2: s = (k (n2.w) - n1.w) / (1 - k^2), t = (n2.w - k (n1.w)) / (1 - k^2).
-    const Joint &h1 = hinges[0], &h2 = hinges[1];
+    const Vector3d point = q_sum.fullPivLu().solve(rhs);
+    const double size = anchor_scale(set);
+    for (const Joint& h : set.hinges) {
+      const double miss = ((Matrix3d::Identity() - h.axis * h.axis.transpose()) * (point - h.anchor)).norm();
+      if (miss > kMeet * size) {
+        std::string why = "three hinges whose axes do not meet in one point (";
+        why += format_number(miss);
+        why += " m off): the child's translation then depends on its rotation";
+        refuse(set, why);
+      }
+    }
+    add(make_ball(p, at(p), b, at(b), point));
+    // Their ranges bound Euler angles, which our limits (one angle about one axis) cannot
+    // measure.
+    for (const Joint& h : set.hinges) dropped_->ranges += h.limited ? 1 : 0;
+  }
+
+  // Universal joint (mjcf.h): the closest points P1 = a1 + s n1 (on the parent) and
+  // P2 = a2 + t n2 (on the child) of the two axis lines, from (P2 - P1) . n1 = (P2 - P1) . n2 = 0:
+  // with w = a1 - a2, k = n1.n2: s = (k (n2.w) - n1.w) / (1 - k^2), t = (n2.w - k (n1.w)) / (1 - k^2).
+  void universal_rows(const JointSet& set) {
+    const int p = set.parent, b = set.body;
+    const RigidBody& child = at(b);
+    const Joint &h1 = set.hinges[0], &h2 = set.hinges[1];
     const Vector3d &n1 = h1.axis, &n2 = h2.axis;
     const Vector3d w = h1.anchor - h2.anchor;
     // 1 - k^2 = |n1 x n2|^2, the latter without the cancellation of 1 - k^2 near parallel axes
@@ -453,7 +490,7 @@ class Converter {
     const Vector3d p2 = h2.anchor + ((n2.dot(w) - k * n1.dot(w)) / denominator) * n2;
     const double offset = (p2 - p1).norm();
     const double length = kUniversalRodLength;
-    if (offset <= kMeet * size) {
+    if (offset <= kMeet * anchor_scale(set)) {
       add(make_ball(p, at(p), b, child, (p1 + p2) / 2));
       add(make_distance(ConstraintType::rod, p, at(p), b, child, p1 + length * n1, p2 + length * n2));
     } else {
@@ -534,7 +571,7 @@ class Converter {
 
 // The XML's numeric attributes, checked before MuJoCo sees the file: MuJoCo reads nan and inf,
 // and a hinge axis "nan 0 0" makes mj_loadXML never return (its length-range computation steps
-// the model: issue 14). A tag-level scan, not an XML parser: comments, declarations and CDATA are
+// the model). A tag-level scan, not an XML parser: comments, declarations and CDATA are
 // skipped, entities are not expanded (MuJoCo's tinyxml2 then reports them), and <include file>
 // is followed (relative to the including file, at most kMaxIncludeDepth deep). Only these
 // attributes are checked; every whitespace-separated token must be a finite double.

@@ -80,7 +80,7 @@ std::string format_vector(std::span<const double> v) {
 
 // A name in quotes, escaped as JSON: one line of printable ASCII whatever it holds (ensure_ascii:
 // DEL and non-ASCII as \uXXXX, invalid UTF-8 as \ufffd; they went in raw before), and at most
-// 48 bytes of it, then "..." (a 100 KB unknown key made a 100 KB message: issue 14).
+// 48 bytes of it, then "..." (a 100 KB unknown key must not make a 100 KB message).
 std::string in_quotes(std::string_view s) {
   constexpr size_t kMax = 48;
   std::string quoted = json(std::string(s.substr(0, kMax))).dump(-1, ' ', true, json::error_handler_t::replace);
@@ -90,8 +90,8 @@ std::string in_quotes(std::string_view s) {
 
 // A JSON value as it appears in a message: one line, at most 60 characters, cut with "...".
 // Written with an explicit stack and a budget, not nlohmann's dump, which recurses on the depth
-// and prints everything: a 8 KB scene of 4000 nested arrays overflowed the stack in this error
-// path (issue 14).
+// and prints everything: a 8 KB scene of 4000 nested arrays would overflow the stack in this
+// error path.
 std::string describe(const json& v) {
   constexpr size_t kMax = 60;
   std::string s;
@@ -507,7 +507,7 @@ class DuplicateKeyCheck {
   };
 
   // Where the innermost open object is, as messages name entries ("bodies[2]"): keys escaped
-  // (printable()), and cut after 200 characters (the depth is the input's: issue 14).
+  // (printable()), and cut after 200 characters (the depth is the input's).
   std::string path() const {
     constexpr size_t kMax = 200;
     std::string p;

@@ -94,10 +94,9 @@ Mechanism shatter_body(const Mechanism& mechanism, int body, int k, std::vector<
   // along e as its constraints see it (twice the farthest anchor along e): a shard's position
   // carries rounding eps |c_j|, so the shards' mass-weighted centre (whole_body) and the welds'
   // lever arms (entries s in J, s^2 / I in H) lose eps s; where the body's radius of gyration
-  // dwarfs its size (mass 1e-200, inertia 1: sqrt(I / m) = 1e100) the shards were 1e100 m apart,
-  // the body's position was rounding, and 5 steps ended 29.5 m from the unshattered run (issue
-  // 14). A shorter chain is still exact: P = m s^2 (k^2 - 1) / 12 below min(I across e) / 2
-  // keeps every I_j positive, and I_j is computed from that P.
+  // dwarfs its size (mass 1e-200, inertia 1: sqrt(I / m) = 1e100) the shards would be 1e100 m
+  // apart and the body's position rounding. A shorter chain is still exact: P = m s^2 (k^2 - 1) / 12
+  // below min(I across e) / 2 keeps every I_j positive, and I_j is computed from that P.
   double extent = 0;  // farthest anchor along e, body frame
   for (const Constraint& c : mechanism.constraints) {
     if (c.body_a == body) extent = std::max(extent, std::abs(c.anchor_a.dot(e)));

@@ -16,10 +16,8 @@ namespace ldlpgs {
 
 struct ShatterOptions {
   int threshold = 20;             // candidates: total constraint degree (rows) above this
-  // The ordering whose block flops choose k. best, as everywhere: it costs 0.25-0.36 ms per
-  // candidate k on the talk's mechanisms against meca's 0.02-0.04 ms (`order --json`'s
-  // ordering_ms), and `spy` of a built-in scene takes 0.02-0.04 s either way: not worth a
-  // second default. The programs pass their --ordering.
+  // The ordering whose block flops choose k: best, as everywhere (under a millisecond per
+  // candidate k on the talk's mechanisms). The programs pass their --ordering.
   std::string ordering = "best";
   int shards = 0;                 // 0: k chosen by flops; 2..kMaxShards: every candidate in k shards
 };

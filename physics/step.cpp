@@ -587,7 +587,7 @@ RigidBody& Simulation::writable(int body, const char* what, bool dynamic_only) {
 
 namespace {
 // Within MechanismRanges (physics/mechanism.h), as a scene file's values: what a caller sets is
-// what a scene may hold, so that nothing computed from it overflows (issue 14, class 5).
+// what a scene may hold, so that nothing computed from it overflows.
 void require_within(const Eigen::Vector3d& v, double max, const char* what, int body, const char* quantity,
                     const char* unit) {
   // (the label is built only to name a fault: the setters run between steps, allocation-free)

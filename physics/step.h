@@ -108,8 +108,8 @@ struct StepReport {
   double penetration_max_m = 0;   // the deepest of this step's contact points after it (m)
 };
 
-// A run that has come apart (issue 14: at a mass ratio of 1e12 every solver ended a 5 m heavy
-// chain 49.6 m off its constraints, and PGS a 100-link one 6e17 m off, with exit 0). The size
+// A run that has come apart: at a mass ratio of 1e12 a solver can end a 5 m heavy chain tens of
+// metres off its constraints, which must not pass for a result (README, "Supported range"). The size
 // is the diagonal of the box around the bodies' centres and the constraints' anchors at the
 // start; a run has failed once a step's state is not finite or its largest translational
 // constraint error exceeds kApartFraction of that size: the mechanism is then not the one

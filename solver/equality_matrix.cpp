@@ -27,8 +27,7 @@ EqualityMatrix::EqualityMatrix(const System& structure) {
   for (int e = 0; e < std::ssize(system_block_); ++e) eq_index[system_block_[e]] = e;
   // The pattern by blocks: an edge for every product of two blocks, each coupling dense, so that
   // H_0's CSC is BlockPattern::expand's and an entry's place is computed, not searched for.
-  // (Triplets through csc_from_triplets, then a binary search per entry: a fifth of `ldlpgs spy`
-  // on the 1000-arm star, 4.5M entries, 1.14 -> 0.92 s; issue 15.)
+  // (Triplets and a binary search per entry were a fifth of `ldlpgs spy` on a 1000-arm star.)
   std::vector<std::pair<int, int>> edges;
   int64_t num_entries = 0;
   for (int c = 0; c < structure.num_columns; ++c) {
