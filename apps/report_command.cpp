@@ -42,7 +42,7 @@ constexpr int kStages = 5;
 
 void progress(int stage, const std::string& what) { std::fprintf(stderr, "report [%d/%d] %s\n", stage, kStages, what.c_str()); }
 
-std::string quoted(const std::string& s) {
+std::string shell_quoted(const std::string& s) {
   std::string q = "'";
   for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return q + "'";
@@ -61,8 +61,8 @@ std::string find_python() {
 // Runs a papers/ script; its standard output to `stdout_file` when given.
 bool run_script(const std::string& python, const std::string& script, const std::string& args,
                 const std::string& stdout_file = "") {
-  std::string cmd = python + " " + quoted(std::string(LDLPGS_SOURCE_DIR "/papers/") + script) + " " + args;
-  if (!stdout_file.empty()) cmd += " > " + quoted(stdout_file);
+  std::string cmd = python + " " + shell_quoted(std::string(LDLPGS_SOURCE_DIR "/papers/") + script) + " " + args;
+  if (!stdout_file.empty()) cmd += " > " + shell_quoted(stdout_file);
   const int rc = std::system(cmd.c_str());
   if (rc != 0) std::fprintf(stderr, "report: papers/%s failed (exit status %d)\n", script.c_str(), rc);
   return rc == 0;
@@ -233,17 +233,284 @@ std::string key_findings(const std::string& out_dir, const std::vector<std::pair
   return md;
 }
 
+// The report's options (the `report` flags).
+struct ReportOptions {
+  std::string matrices = LDLPGS_SOURCE_DIR "/tests/data/matrices", orderings = "all", out = "report";
+  std::vector<int> sizes = {100, 1000, 5000};
+  std::string verify = "best";
+  bool markdown = false, cholmod = false, full = false, no_figures = false;
+  std::vector<std::string> cases;  // empty: sweep_cases(full)
+};
+
+// One run of the report: its inputs checked, then the five stages in order, each appending its
+// section to the index (buffered: the key findings that open the file are known only at the end)
+// and its tables to data/, then the index written.
+class Report {
+ public:
+  explicit Report(const ReportOptions& o) : o_(o), index_(nullptr, std::fclose) {}
+
+  int run() {
+    start_ = std::chrono::steady_clock::now();
+    prepare();
+    orderings();
+    verification();
+    talk_figures();
+    speed_against_error();
+    stability_stage();
+    return finish();
+  }
+
+ private:
+  // The inputs (orderings, matrices, cases) and the report directory, refused before the long work.
+  void prepare() {
+    names_ = parse_ordering_list(o_.orderings);
+    verify_ordering_ = &find_ordering(o_.verify);
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(o_.matrices, ec)) {
+      if (entry.path().extension() == ".mtx") files_.push_back(entry.path().string());
+    }
+    if (ec) throw InputError(o_.matrices + ": cannot read directory (" + ec.message() + ")");
+    std::sort(files_.begin(), files_.end());
+    for (const std::string& c : o_.cases) load_mechanism(c);  // refuse a bad name before the long work
+    if (o_.out.empty()) throw InputError("--out-dir: an empty path (the report directory to write)");
+    fs::create_directories(fs::path(o_.out) / "figures", ec);
+    if (!ec) fs::create_directories(fs::path(o_.out) / "data", ec);
+    if (ec) throw InputError(o_.out + ": cannot create the report directory (" + ec.message() + ")");
+    out_dir_ = fs::absolute(o_.out).string();
+    figures_ = out_dir_ + "/figures";
+    data_ = out_dir_ + "/data";
+    index_path_ = out_dir_ + "/index.md";
+    if (!std::ofstream(index_path_)) throw InputError(index_path_ + ": cannot write");
+    index_.reset(open_memstream(&body_.data, &body_.size));
+    if (!index_) throw InputError(index_path_ + ": cannot buffer the report");
+    md_ = index_.get();
+    write_head();
+  }
+
+  void write_head() {
+    const std::time_t now = std::time(nullptr);
+    char date[64];
+    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+    char head[2048];
+    std::snprintf(head, sizeof head, "# ldlpgs report\n\nMade by `./build.sh report` (`build/bin/ldlpgs report%s%s`, "
+                  "ldlpgs %s) on %s.\nMachine: %s. The tables as data (JSON and CSV, for pandas): `data/`.\n\n",
+                  o_.full ? " --full" : "", o_.out == "report" ? "" : (" --out-dir " + o_.out).c_str(), kVersion,
+                  date, machine().c_str());
+    head_ = head;
+    std::fprintf(md_, "1. [Orderings](#1-orderings): fill and flops of MDA and MECA against AMD and METIS\n"
+                 "2. [The block LDL^T against CHOLMOD](#2-the-block-ldlt-against-cholmod)\n"
+                 "3. [The talk's figures](#3-the-talks-figures)\n"
+                 "4. [Speed against error](#4-speed-against-error)\n"
+                 "5. [Where each solver breaks](#5-where-each-solver-breaks)\n\n");
+  }
+
+  // One problem of stage 1 compared; text: its table on stdout.
+  void compare_problem(Problem p) {
+    std::vector<Row> rows = compare(p, names_, o_.cholmod);
+    if (!o_.markdown) {
+      print_table(stdout, p, rows);
+      std::fflush(stdout);
+    }
+    for (Row& r : rows) r.ordering = Ordering();  // keep the summaries, not the permutations
+    results_.emplace_back(std::move(p), std::move(rows));
+  }
+
+  // 1. Orderings. Text: one table per problem on stdout. Markdown: one table per metric.
+  void orderings() {
+    progress(1, "orderings on the mechanism families and " + std::to_string(files_.size()) + " matrices");
+    std::vector<std::string> skipped;
+    for (std::string_view family : family_names()) {
+      for (int size : o_.sizes) {
+        // The heavy body makes H dense: past a few hundred constraints that is a dense matrix
+        // with nothing left to order, and the explicit elimination graph holds all its edges.
+        if (family == "heavy" && size > 500) continue;
+        std::fprintf(stderr, "report: %s, %d constraints\n", std::string(family).c_str(), size);
+        compare_problem(make_mechanism(std::string(family), size));
+      }
+    }
+    for (const std::string& name : builtin_scene_names()) {
+      const Mechanism m = load_mechanism(name);
+      if (m.constraint_graph(true).num_blocks() == 0) continue;
+      std::fprintf(stderr, "report: scene %s\n", name.c_str());
+      compare_problem(scene_problem(m));
+    }
+    for (const std::string& file : files_) {
+      std::fprintf(stderr, "report: %s\n", file.c_str());
+      try {
+        compare_problem(load_matrix(file, "auto", 6));
+      } catch (const InputError& e) {
+        // An unsymmetric matrix has no LDL^T: the comparison skips it and says why.
+        std::printf("%sskipped: %s\n", o_.markdown ? "\n" : "", e.what());
+        skipped.push_back(e.what());
+      }
+    }
+    if (o_.markdown) print_markdown_by_metric(stdout, results_);
+    std::fprintf(md_, "## 1. Orderings\n\nThe generated mechanism families at %zu sizes, the built-in scenes' H_0 "
+                 "(whole, as `ldlpgs export SCENE --no-shatter` writes it) and the matrices of `%s`, "
+                 "every ordering; scalar counts as CHOLMOD defines them, block flops the talk's cost model "
+                 "(papers/orderings.md explains the columns). One problem in detail: "
+                 "`build/bin/ldlpgs order PROBLEM --cholmod`.\n",
+                 o_.sizes.size(), o_.matrices.c_str());
+    print_markdown_by_metric(md_, results_);
+    for (const std::string& s : skipped) std::fprintf(md_, "\nSkipped: %s\n", s.c_str());
+    nlohmann::json ordering_rows = nlohmann::json::array();
+    for (const auto& [p, rows] : results_) {
+      nlohmann::json j = to_json(p, rows);
+      for (nlohmann::json& r : j["results"]) {
+        for (const char* key : {"matrix", "n", "blocks"}) r[key] = j[key];
+        ordering_rows.push_back(std::move(r));
+      }
+    }
+    write_table(data_, "orderings", ordering_rows);
+  }
+
+  // 2. The factorization of every problem, in the ordering o_.verify, against CHOLMOD's.
+  void verification() {
+    progress(2, "the block LDL^T of every problem against CHOLMOD");
+    nlohmann::json verification_rows = nlohmann::json::array();
+    for (const auto& [p, rows] : results_) {
+      std::fprintf(stderr, "report: verifying %s\n", p.name.c_str());
+      checks_.emplace_back(p.name, verify_against_cholmod(p.a, p.blocks, compute_ordering(*verify_ordering_, p.blocks, p.a)));
+      verification_rows.push_back(to_json(p, checks_.back().second));
+    }
+    write_table(data_, "verification", verification_rows);
+    std::printf(o_.markdown ? "\n### The block LDL^T against CHOLMOD\n\n" : "\nThe block LDL^T against CHOLMOD's simplicial LDL^T, same permutation:\n");
+    print_verification_table(stdout, checks_, o_.markdown);
+    // A row that is not yes is one of three things (verdict()): counted apart, so that a matrix
+    // a solver refused is not reported as a disagreement.
+    const std::string not_all = not_agreeing(checks_);
+    const bool all_agree = not_all.empty();
+    if (!all_agree)
+      std::printf("NOT ALL AGREE: %s; tolerances in factor/verify.h\n", not_all.c_str());
+    ok_ = ok_ && all_agree;
+    const std::string summary = all_agree ? "All agree." : "**Not all agree: " + not_all + ".**";
+    std::fprintf(md_, "\n## 2. The block LDL^T against CHOLMOD\n\nOrdering %s; L, D and x against CHOLMOD's simplicial "
+                 "LDL^T on the same permutation, tolerance max(1e-10, eps cond_1) (factor/verify.h); one row in "
+                 "detail: `build/bin/ldlpgs verify PROBLEM`. %s\n\n",
+                 o_.verify.c_str(), summary.c_str());
+    print_verification_table(md_, checks_, true);
+  }
+
+  // 3. The talk's table (papers/talk_figures.py runs spy, export, bench and step of this program).
+  void talk_figures() {
+    python_ = o_.no_figures ? "" : find_python();
+    if (python_.empty() && !o_.no_figures)
+      std::fprintf(stderr, "report: python3 with matplotlib and markdown not found (Debian's python3-matplotlib and "
+                           "python3-markdown; ./build.sh report installs them): the talk's table, the plots and "
+                           "index.html are skipped\n");
+    std::fprintf(md_, "\n## 3. The talk's figures\n\n");
+    progress(3, "the talk's table and spy plots");
+    if (python_.empty()) {
+      std::fprintf(md_, "Skipped: no python3 with matplotlib.\n");
+      return;
+    }
+    const std::string self = fs::read_symlink("/proc/self/exe").string(), table = out_dir_ + "/talk-table.md";
+    if (!run_script(python_, "talk_figures.py", shell_quoted(self) + " --figures " + shell_quoted(figures_), table)) {
+      ok_ = false;
+      std::fprintf(md_, "Failed: papers/talk_figures.py (its message is on standard error).\n");
+      return;
+    }
+    const std::string text = read_file(table);
+    for (size_t at = text.find("\n|"); at != std::string::npos; at = text.find("\n|", at + 1)) ++talk_rows_;
+    talk_rows_ = std::max(0, talk_rows_ - 1);  // the header's rule line
+    std::fprintf(md_, "Per mechanism, the talk's figure / ours (papers/talk-figures.md says how each is measured "
+                 "and why they differ); made by `python3 papers/talk_figures.py build/bin/ldlpgs --figures "
+                 "%s/figures`.\n\n%s\n",
+                 o_.out.c_str(), read_file(table).c_str());
+    std::fprintf(stdout, "\nThe talk's figures / ours:\n%s", read_file(table).c_str());
+    for (const char* name : {"mechanism-50", "mechanism-50-shattered", "tracked-vehicle", "multi-wheeled-vehicle",
+                             "multi-wheeled-vehicle-10-shards", "multi-wheeled-vehicle-shattered"})
+      std::fprintf(md_, "![%s](figures/%s.png)\n\n", name, name);
+  }
+
+  // 4. Speed against error of the solvers on the hard cases.
+  void speed_against_error() {
+    progress(4, std::string("speed against error (") + (o_.full ? "full" : "quick") + ") and stability");
+    cases_ = o_.cases.empty() ? sweep_cases(o_.full) : o_.cases;
+    seconds_ = o_.full ? 2.0 : 1.0;
+    points_ = speed_vs_error(cases_, sweep_iterations(o_.full), seconds_, true);
+    const std::string sweep_data = data_ + "/sweep.json";
+    write_table(data_, "sweep", to_json(points_));
+    std::fprintf(md_, "\n## 4. Speed against error\n\nEach hard case stepped for %g s of simulated time with pgs, "
+                 "block-gs and ldl-pgs at several iteration counts, and direct (equality-only scenes); the median "
+                 "solve time per step against the largest position error at the end (papers/speed-vs-error.md "
+                 "reads the full version). Made by `build/bin/ldlpgs sweep%s --json-file FILE`; the points are in "
+                 "`data/sweep.json`.\n\n",
+                 seconds_, o_.full ? " --full" : "");
+    print_sweep_summary(md_, points_);
+    std::printf("\nSpeed against error, %g s simulated (best error reached; fastest run within 1 mm):\n", seconds_);
+    print_sweep_summary(stdout, points_);
+    if (!python_.empty()) {
+      if (run_script(python_, "plot_speed_vs_error.py", shell_quoted(sweep_data) + " " + shell_quoted(figures_))) {
+        for (const std::string& c : cases_) std::fprintf(md_, "\n![%s](figures/speed-vs-error-%s.png)\n", c.c_str(), c.c_str());
+      } else {
+        ok_ = false;
+      }
+    }
+    std::fprintf(md_, "\n### Every run\n\n");
+    print_sweep_markdown(md_, points_);
+  }
+
+  // 5. The mass ratio at which each solver breaks.
+  void stability_stage() {
+    progress(5, "where each solver breaks, the figures and index.html");
+    breaks_ = stability(cases_, 10, seconds_, true);
+    write_table(data_, "stability", to_json(breaks_));
+    std::fprintf(md_, "\n## 5. Where each solver breaks\n\nThe heaviest body of each case made 10, 100, ... times "
+                 "heavier (mass and inertia) until the run fails: a non-finite state, a position error above 1 cm, "
+                 "or an energy blow-up; 10 iterations, dt <= 2.5 ms, %g s. Made by `build/bin/ldlpgs sweep%s "
+                 "--stability`.\n\n",
+                 seconds_, o_.full ? " --full" : "");
+    print_stability_markdown(md_, breaks_);
+  }
+
+  // index.md (head, key findings, the stages' sections), index.html; the exit code.
+  int finish() {
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    std::fprintf(md_, "\nThe report took %.0f s.\n", elapsed);
+    index_.reset();  // body_.data and body_.size now final
+    {
+      std::ofstream file(index_path_);
+      file << head_ << key_findings(out_dir_, results_, checks_, talk_rows_, points_, breaks_)
+           << std::string_view(body_.data, body_.size);
+      finish_writing(file, index_path_, "the report");
+    }
+    if (!python_.empty())
+      ok_ = run_script(python_, "render_html.py", shell_quoted(index_path_) + " " + shell_quoted(out_dir_ + "/index.html")) && ok_;
+    // The paths as the user named the directory (relative stays relative): nothing of this
+    // machine's layout in what is printed, or pasted into the README.
+    const fs::path shown(o_.out);
+    std::printf("\nReport: %s%s (%.0f s)\n", (shown / "index.md").string().c_str(),
+                python_.empty() ? "" : (", " + (shown / "index.html").string()).c_str(), elapsed);
+    return ok_ ? 0 : 1;
+  }
+
+  const ReportOptions& o_;
+  std::chrono::steady_clock::time_point start_;
+  std::vector<std::string> names_, files_;
+  const OrderingInfo* verify_ordering_ = nullptr;
+  std::string out_dir_, figures_, data_, index_path_, head_, python_;
+  struct Buffer {  // declared before the stream: freed after the stream's close sets it
+    char* data = nullptr;
+    size_t size = 0;
+    ~Buffer() { std::free(data); }
+  } body_;
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> index_;
+  std::FILE* md_ = nullptr;
+  bool ok_ = true;
+  std::vector<std::pair<Problem, std::vector<Row>>> results_;
+  std::vector<std::pair<std::string, Verification>> checks_;
+  int talk_rows_ = 0;
+  std::vector<std::string> cases_;
+  double seconds_ = 1;
+  std::vector<SweepPoint> points_;
+  std::vector<Breakdown> breaks_;
+};
+
 }  // namespace
 
 Command add_report_command(CLI::App& app) {
-  struct Options {
-    std::string matrices = LDLPGS_SOURCE_DIR "/tests/data/matrices", orderings = "all", out = "report";
-    std::vector<int> sizes = {100, 1000, 5000};
-    std::string verify = "best";
-    bool markdown = false, cholmod = false, full = false, no_figures = false;
-    std::vector<std::string> cases;  // empty: sweep_cases(full)
-  };
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<ReportOptions>();
   CLI::App* cmd = app.add_subcommand("report", "The main job: orderings, CHOLMOD verification, the talk's table, "
                                                 "speed against error; writes a report directory");
   cmd->add_option("--matrices", o->matrices, "Directory of Matrix Market files")->capture_default_str();
@@ -260,216 +527,7 @@ Command add_report_command(CLI::App& app) {
   add_list_option(cmd, "--cases", &o->cases, "Scenes of the speed-against-error and stability stages (default: the "
                                              "hard cases)");
   cmd->add_flag("--no-figures", o->no_figures, "Skip the stages that need python3 (talk's table, plots, index.html)");
-  return [o] {
-    const auto start = std::chrono::steady_clock::now();
-    const std::vector<std::string> names = parse_ordering_list(o->orderings);
-    const OrderingInfo& verify_ordering = find_ordering(o->verify);
-    std::vector<std::string> files;
-    std::error_code ec;
-    for (const auto& entry : fs::directory_iterator(o->matrices, ec)) {
-      if (entry.path().extension() == ".mtx") files.push_back(entry.path().string());
-    }
-    if (ec) throw InputError(o->matrices + ": cannot read directory (" + ec.message() + ")");
-    std::sort(files.begin(), files.end());
-    for (const std::string& c : o->cases) load_mechanism(c);  // refuse a bad name before the long work
-    if (o->out.empty()) throw InputError("--out-dir: an empty path (the report directory to write)");
-    fs::create_directories(fs::path(o->out) / "figures", ec);
-    if (!ec) fs::create_directories(fs::path(o->out) / "data", ec);
-    if (ec) throw InputError(o->out + ": cannot create the report directory (" + ec.message() + ")");
-    const std::string out_dir = fs::absolute(o->out).string(), figures = out_dir + "/figures", data = out_dir + "/data";
-    const std::string index_path = out_dir + "/index.md";
-    if (!std::ofstream(index_path)) throw InputError(index_path + ": cannot write");
-    // the body in memory: the key findings that open the file are known only at the end
-    struct Buffer {  // declared before the stream: freed after the stream's close sets it
-      char* data = nullptr;
-      size_t size = 0;
-      ~Buffer() { std::free(data); }
-    } body;
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> index(open_memstream(&body.data, &body.size), std::fclose);
-    if (!index) throw InputError(index_path + ": cannot buffer the report");
-    std::FILE* md = index.get();
-    bool ok = true;
-
-    const std::time_t now = std::time(nullptr);
-    char date[64];
-    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
-    char head[2048];
-    std::snprintf(head, sizeof head, "# ldlpgs report\n\nMade by `./build.sh report` (`build/bin/ldlpgs report%s%s`, "
-                  "ldlpgs %s) on %s.\nMachine: %s. The tables as data (JSON and CSV, for pandas): `data/`.\n\n",
-                  o->full ? " --full" : "", o->out == "report" ? "" : (" --out-dir " + o->out).c_str(), kVersion,
-                  date, machine().c_str());
-    std::fprintf(md, "1. [Orderings](#1-orderings): fill and flops of MDA and MECA against AMD and METIS\n"
-                 "2. [The block LDL^T against CHOLMOD](#2-the-block-ldlt-against-cholmod)\n"
-                 "3. [The talk's figures](#3-the-talks-figures)\n"
-                 "4. [Speed against error](#4-speed-against-error)\n"
-                 "5. [Where each solver breaks](#5-where-each-solver-breaks)\n\n");
-
-    // 1. Orderings. Text: one table per problem on stdout. Markdown: one table per metric.
-    progress(1, "orderings on the mechanism families and " + std::to_string(files.size()) + " matrices");
-    std::vector<std::pair<Problem, std::vector<Row>>> results;
-    std::vector<std::string> skipped;
-    auto show = [&](Problem p) {
-      std::vector<Row> rows = compare(p, names, o->cholmod);
-      if (!o->markdown) {
-        print_table(stdout, p, rows);
-        std::fflush(stdout);
-      }
-      for (Row& r : rows) r.ordering = Ordering();  // keep the summaries, not the permutations
-      results.emplace_back(std::move(p), std::move(rows));
-    };
-    for (std::string_view family : family_names()) {
-      for (int size : o->sizes) {
-        // The heavy body makes H dense: past a few hundred constraints that is a dense matrix
-        // with nothing left to order, and the explicit elimination graph holds all its edges.
-        if (family == "heavy" && size > 500) continue;
-        std::fprintf(stderr, "report: %s, %d constraints\n", std::string(family).c_str(), size);
-        show(make_mechanism(std::string(family), size));
-      }
-    }
-    for (const std::string& name : builtin_scene_names()) {
-      const Mechanism m = load_mechanism(name);
-      if (m.constraint_graph(true).num_blocks() == 0) continue;
-      std::fprintf(stderr, "report: scene %s\n", name.c_str());
-      show(scene_problem(m));
-    }
-    for (const std::string& file : files) {
-      std::fprintf(stderr, "report: %s\n", file.c_str());
-      try {
-        show(load_matrix(file, "auto", 6));
-      } catch (const InputError& e) {
-        // An unsymmetric matrix has no LDL^T: the comparison skips it and says why.
-        std::printf("%sskipped: %s\n", o->markdown ? "\n" : "", e.what());
-        skipped.push_back(e.what());
-      }
-    }
-    if (o->markdown) print_markdown_by_metric(stdout, results);
-    std::fprintf(md, "## 1. Orderings\n\nThe generated mechanism families at %zu sizes, the built-in scenes' H_0 "
-                 "(whole, as `ldlpgs export SCENE --no-shatter` writes it) and the matrices of `%s`, "
-                 "every ordering; scalar counts as CHOLMOD defines them, block flops the talk's cost model "
-                 "(papers/orderings.md explains the columns). One problem in detail: "
-                 "`build/bin/ldlpgs order PROBLEM --cholmod`.\n",
-                 o->sizes.size(), o->matrices.c_str());
-    print_markdown_by_metric(md, results);
-    for (const std::string& s : skipped) std::fprintf(md, "\nSkipped: %s\n", s.c_str());
-    nlohmann::json ordering_rows = nlohmann::json::array();
-    for (const auto& [p, rows] : results) {
-      nlohmann::json j = to_json(p, rows);
-      for (nlohmann::json& r : j["results"]) {
-        for (const char* key : {"matrix", "n", "blocks"}) r[key] = j[key];
-        ordering_rows.push_back(std::move(r));
-      }
-    }
-    write_table(data, "orderings", ordering_rows);
-
-    // 2. The factorization of every problem, in the ordering o->verify, against CHOLMOD's.
-    progress(2, "the block LDL^T of every problem against CHOLMOD");
-    std::vector<std::pair<std::string, Verification>> checks;
-    nlohmann::json verification_rows = nlohmann::json::array();
-    for (const auto& [p, rows] : results) {
-      std::fprintf(stderr, "report: verifying %s\n", p.name.c_str());
-      checks.emplace_back(p.name, verify_against_cholmod(p.a, p.blocks, compute_ordering(verify_ordering, p.blocks, p.a)));
-      verification_rows.push_back(to_json(p, checks.back().second));
-    }
-    write_table(data, "verification", verification_rows);
-    std::printf(o->markdown ? "\n### The block LDL^T against CHOLMOD\n\n" : "\nThe block LDL^T against CHOLMOD's simplicial LDL^T, same permutation:\n");
-    print_verification_table(stdout, checks, o->markdown);
-    // A row that is not yes is one of three things (verdict()): counted apart, so that a matrix
-    // a solver refused is not reported as a disagreement.
-    const std::string not_all = not_agreeing(checks);
-    const bool all_agree = not_all.empty();
-    if (!all_agree)
-      std::printf("NOT ALL AGREE: %s; tolerances in factor/verify.h\n", not_all.c_str());
-    ok = ok && all_agree;
-    const std::string summary = all_agree ? "All agree." : "**Not all agree: " + not_all + ".**";
-    std::fprintf(md, "\n## 2. The block LDL^T against CHOLMOD\n\nOrdering %s; L, D and x against CHOLMOD's simplicial "
-                 "LDL^T on the same permutation, tolerance max(1e-10, eps cond_1) (factor/verify.h); one row in "
-                 "detail: `build/bin/ldlpgs verify PROBLEM`. %s\n\n",
-                 o->verify.c_str(), summary.c_str());
-    print_verification_table(md, checks, true);
-
-    // 3. The talk's table (papers/talk_figures.py runs spy, export, bench and step of this program).
-    const std::string python = o->no_figures ? "" : find_python();
-    int talk_rows = 0;
-    if (python.empty() && !o->no_figures)
-      std::fprintf(stderr, "report: python3 with matplotlib and markdown not found (Debian's python3-matplotlib and "
-                           "python3-markdown; ./build.sh report installs them): the talk's table, the plots and "
-                           "index.html are skipped\n");
-    std::fprintf(md, "\n## 3. The talk's figures\n\n");
-    progress(3, "the talk's table and spy plots");
-    if (python.empty()) {
-      std::fprintf(md, "Skipped: no python3 with matplotlib.\n");
-    } else {
-      const std::string self = fs::read_symlink("/proc/self/exe").string(), table = out_dir + "/talk-table.md";
-      if (run_script(python, "talk_figures.py", quoted(self) + " --figures " + quoted(figures), table)) {
-        const std::string text = read_file(table);
-        for (size_t at = text.find("\n|"); at != std::string::npos; at = text.find("\n|", at + 1)) ++talk_rows;
-        talk_rows = std::max(0, talk_rows - 1);  // the header's rule line
-        std::fprintf(md, "Per mechanism, the talk's figure / ours (papers/talk-figures.md says how each is measured "
-                     "and why they differ); made by `python3 papers/talk_figures.py build/bin/ldlpgs --figures "
-                     "%s/figures`.\n\n%s\n",
-                     o->out.c_str(), read_file(table).c_str());
-        std::fprintf(stdout, "\nThe talk's figures / ours:\n%s", read_file(table).c_str());
-        for (const char* name : {"mechanism-50", "mechanism-50-shattered", "tracked-vehicle", "multi-wheeled-vehicle",
-                                 "multi-wheeled-vehicle-10-shards", "multi-wheeled-vehicle-shattered"})
-          std::fprintf(md, "![%s](figures/%s.png)\n\n", name, name);
-      } else {
-        ok = false;
-        std::fprintf(md, "Failed: papers/talk_figures.py (its message is on standard error).\n");
-      }
-    }
-
-    // 4. and 5. Speed against error, and the mass ratio at which each solver breaks.
-    progress(4, std::string("speed against error (") + (o->full ? "full" : "quick") + ") and stability");
-    const std::vector<std::string> cases = o->cases.empty() ? sweep_cases(o->full) : o->cases;
-    const double seconds = o->full ? 2.0 : 1.0;
-    const std::vector<SweepPoint> points = speed_vs_error(cases, sweep_iterations(o->full), seconds, true);
-    const std::string sweep_data = data + "/sweep.json";
-    write_table(data, "sweep", to_json(points));
-    std::fprintf(md, "\n## 4. Speed against error\n\nEach hard case stepped for %g s of simulated time with pgs, "
-                 "block-gs and ldl-pgs at several iteration counts, and direct (equality-only scenes); the median "
-                 "solve time per step against the largest position error at the end (papers/speed-vs-error.md "
-                 "reads the full version). Made by `build/bin/ldlpgs sweep%s --json-file FILE`; the points are in "
-                 "`data/sweep.json`.\n\n",
-                 seconds, o->full ? " --full" : "");
-    print_sweep_summary(md, points);
-    std::printf("\nSpeed against error, %g s simulated (best error reached; fastest run within 1 mm):\n", seconds);
-    print_sweep_summary(stdout, points);
-    if (!python.empty()) {
-      if (run_script(python, "plot_speed_vs_error.py", quoted(sweep_data) + " " + quoted(figures))) {
-        for (const std::string& c : cases) std::fprintf(md, "\n![%s](figures/speed-vs-error-%s.png)\n", c.c_str(), c.c_str());
-      } else {
-        ok = false;
-      }
-    }
-    std::fprintf(md, "\n### Every run\n\n");
-    print_sweep_markdown(md, points);
-
-    progress(5, "where each solver breaks, the figures and index.html");
-    const std::vector<Breakdown> breaks = stability(cases, 10, seconds, true);
-    write_table(data, "stability", to_json(breaks));
-    std::fprintf(md, "\n## 5. Where each solver breaks\n\nThe heaviest body of each case made 10, 100, ... times "
-                 "heavier (mass and inertia) until the run fails: a non-finite state, a position error above 1 cm, "
-                 "or an energy blow-up; 10 iterations, dt <= 2.5 ms, %g s. Made by `build/bin/ldlpgs sweep%s "
-                 "--stability`.\n\n",
-                 seconds, o->full ? " --full" : "");
-    print_stability_markdown(md, breaks);
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::fprintf(md, "\nThe report took %.0f s.\n", elapsed);
-    index.reset();  // body.data and body.size now final
-    {
-      std::ofstream file(index_path);
-      file << head << key_findings(out_dir, results, checks, talk_rows, points, breaks)
-           << std::string_view(body.data, body.size);
-      finish_writing(file, index_path, "the report");
-    }
-    if (!python.empty()) ok = run_script(python, "render_html.py", quoted(index_path) + " " + quoted(out_dir + "/index.html")) && ok;
-    // The paths as the user named the directory (relative stays relative): nothing of this
-    // machine's layout in what is printed, or pasted into the README.
-    const fs::path shown(o->out);
-    std::printf("\nReport: %s%s (%.0f s)\n", (shown / "index.md").string().c_str(),
-                python.empty() ? "" : (", " + (shown / "index.html").string()).c_str(), elapsed);
-    return ok ? 0 : 1;
-  };
+  return [o] { return Report(*o).run(); };
 }
 
 }  // namespace ldlpgs::cli
