@@ -58,10 +58,27 @@ std::string find_python() {
   return "";
 }
 
-// Runs a papers/ script; its standard output to `stdout_file` when given.
+// Where the report's scripts (papers/*.py) and default matrices are: installed beside the
+// program (PREFIX/share/ldlpgs/{scripts,matrices} for PREFIX/bin/ldlpgs), else in the source tree
+// it was built from (`source`, empty when installed).
+struct ReportFiles {
+  std::string scripts, matrices, source;
+};
+const ReportFiles& report_files() {
+  static const ReportFiles files = [] {
+    std::error_code ec;
+    const fs::path share = fs::read_symlink("/proc/self/exe", ec).parent_path().parent_path() / "share" / "ldlpgs";
+    if (!ec && fs::exists(share / "scripts" / "talk_figures.py", ec))
+      return ReportFiles{(share / "scripts").string(), (share / "matrices").string(), ""};
+    return ReportFiles{LDLPGS_SOURCE_DIR "/papers", LDLPGS_SOURCE_DIR "/tests/data/matrices", LDLPGS_SOURCE_DIR};
+  }();
+  return files;
+}
+
+// Runs one of the report's scripts; its standard output to `stdout_file` when given.
 bool run_script(const std::string& python, const std::string& script, const std::string& args,
                 const std::string& stdout_file = "") {
-  std::string cmd = python + " " + shell_quoted(std::string(LDLPGS_SOURCE_DIR "/papers/") + script) + " " + args;
+  std::string cmd = python + " " + shell_quoted(report_files().scripts + "/" + script) + " " + args;
   if (!stdout_file.empty()) cmd += " > " + shell_quoted(stdout_file);
   const int rc = std::system(cmd.c_str());
   if (rc != 0) std::fprintf(stderr, "report: papers/%s failed (exit status %d)\n", script.c_str(), rc);
@@ -132,10 +149,11 @@ void write_table(const fs::path& dir, const std::string& name, const nlohmann::j
 }
 
 // A paper's path as a link from the report directory when the report is inside the project
-// (report/ by default); outside it, the path in the project only: a link would carry this
-// machine's layout into the report.
+// (report/ by default); outside it, or from an installed program, the path in the project only:
+// a link would carry this machine's layout into the report.
 std::string paper(const std::string& out_dir, const std::string& name) {
-  const fs::path source = fs::weakly_canonical(LDLPGS_SOURCE_DIR), dir = fs::weakly_canonical(out_dir);
+  if (report_files().source.empty()) return "`papers/" + name + "`";
+  const fs::path source = fs::weakly_canonical(report_files().source), dir = fs::weakly_canonical(out_dir);
   const std::string inside = fs::relative(dir, source).string();
   if (inside.empty() || inside.starts_with("..")) return "`papers/" + name + "`";
   return "[papers/" + name + "](" + fs::relative(source / "papers" / name, dir).string() + ")";
@@ -235,7 +253,7 @@ std::string key_findings(const std::string& out_dir, const std::vector<std::pair
 
 // The report's options (the `report` flags).
 struct ReportOptions {
-  std::string matrices = LDLPGS_SOURCE_DIR "/tests/data/matrices", orderings = "all", out = "report";
+  std::string matrices = report_files().matrices, orderings = "all", out = "report";
   std::vector<int> sizes = {100, 1000, 5000};
   std::string verify = "best";
   bool markdown = false, cholmod = false, full = false, no_figures = false;

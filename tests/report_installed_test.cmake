@@ -1,0 +1,37 @@
+# ctest's report_installed (tests/CMakeLists.txt): `ldlpgs report` from the install prefix, run
+# from a directory outside the source and build trees, must find its scripts and matrices beside
+# the installed program. cmake -DBUILD=... -DWORK=... -P this
+cmake_minimum_required(VERSION 3.25)
+foreach(var BUILD WORK)
+  if(NOT DEFINED ${var})
+    message(FATAL_ERROR "report_installed_test.cmake: -D${var}= is required")
+  endif()
+endforeach()
+
+function(run)
+  execute_process(COMMAND ${ARGN} WORKING_DIRECTORY ${WORK} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
+  if(NOT rc EQUAL 0)
+    string(REPLACE ";" " " cmd "${ARGN}")
+    message(FATAL_ERROR "failed (${rc}): ${cmd}\n${out}")
+  endif()
+endfunction()
+
+file(REMOVE_RECURSE ${WORK})
+file(MAKE_DIRECTORY ${WORK})
+run(${CMAKE_COMMAND} --install ${BUILD} --prefix ${WORK}/prefix)
+# A small report: one generated size, one case; the figures and index.html need the scripts.
+run(${WORK}/prefix/bin/ldlpgs report --sizes 100 --cases chain-10 --out-dir report)
+foreach(file index.md index.html figures/mechanism-50.png figures/speed-vs-error-chain-10.png data/orderings.csv)
+  if(NOT EXISTS ${WORK}/report/${file})
+    message(FATAL_ERROR "the installed report wrote no ${file} (are python3-matplotlib and python3-markdown installed?)")
+  endif()
+endforeach()
+file(READ ${WORK}/report/index.md index)
+string(FIND "${index}" "${WORK}/prefix/share/ldlpgs/matrices" at)
+if(at EQUAL -1)
+  message(FATAL_ERROR "the installed report did not read the installed matrices")
+endif()
+string(FIND "${index}" "bcsstk01" at)
+if(at EQUAL -1)
+  message(FATAL_ERROR "the installed report compared no installed matrix")
+endif()
