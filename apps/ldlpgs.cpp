@@ -21,6 +21,7 @@
 #include "bench/competitors.h"
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/limits.h"
+#include "ldlpgs/sparse/text.h"
 #include "ldlpgs/version.h"
 
 namespace {

@@ -10,6 +10,7 @@
 #include <iostream>
 
 #include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/text.h"
 #include "ldlpgs/version.h"
 
 namespace ldlpgs::cli {

@@ -18,6 +18,7 @@
 #include "ldlpgs/physics/step.h"
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/matrix_market.h"
+#include "ldlpgs/sparse/text.h"
 
 namespace ldlpgs::cli {
 

@@ -13,6 +13,7 @@
 
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/limits.h"
+#include "ldlpgs/sparse/text.h"
 
 namespace ldlpgs::fuzz {
 

@@ -7,6 +7,7 @@
 
 #include "ldlpgs/physics/scene.h"
 #include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/text.h"
 
 namespace ldlpgs {
 

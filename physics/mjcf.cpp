@@ -6,14 +6,12 @@
 #include "ldlpgs/physics/mjcf.h"
 
 #include <algorithm>
-#include <array>
 #include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <limits>
 #include <memory>
@@ -24,6 +22,7 @@
 
 #include "ldlpgs/physics/scene.h"
 #include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/text.h"
 
 #ifdef LDLPGS_HAVE_MUJOCO
 #include <mujoco/mujoco.h>
@@ -586,32 +585,26 @@ constexpr int kMaxIncludeDepth = 16;
 // An MJCF file is text of some kilobytes (MuJoCo's humanoid: 9 KB): past this it is not one.
 constexpr size_t kMaxMjcfBytes = size_t{1} << 26;
 
-// The file's text, read a chunk at a time so that what is not XML fails at its first chunk: read
-// whole, a directory named d.xml threw libstdc++'s ios_base::failure (exit 3, "internal error"),
-// and /dev/zero named z.xml never returned.
+// The file's text, read a chunk at a time (FileChunks) so that what is not XML fails at its first
+// chunk: read whole, /dev/zero named z.xml would never return. A file that cannot be opened gives
+// "": MuJoCo then names what is missing.
 std::string read_mjcf_text(const std::string& file) {
   std::error_code ec;
-  if (std::filesystem::is_directory(file, ec)) throw InputError(printable(file) + ": cannot read: it is a directory");
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return {};  // MuJoCo names what is missing
+  if (!std::filesystem::is_directory(file, ec) && !std::filesystem::exists(file, ec)) return {};
+  FileChunks chunks(file);
   std::string text;
-  std::array<char, 1 << 16> chunk;
-  while (in.read(chunk.data(), chunk.size()) || in.gcount() > 0) {
-    const bool first = text.empty();
-    text.append(chunk.data(), static_cast<size_t>(in.gcount()));
-    if (first) {
+  while (chunks.append_to(text)) {
+    if (text.size() <= FileChunks::kChunk) {
       // XML starts with '<' after blanks (and a UTF-8 byte order mark)
       size_t at = text.starts_with("\xEF\xBB\xBF") ? 3 : 0;
       while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at]))) ++at;
       if (at == text.size() || text[at] != '<')
-        throw InputError(printable(file) + ": not an MJCF (XML) file: it does not start with '<'");
+        throw InputError(chunks.name() + ": not an MJCF (XML) file: it does not start with '<'");
     }
     if (text.size() > kMaxMjcfBytes)
-      throw InputError(printable(file) + ": more than " + std::to_string(kMaxMjcfBytes >> 20) +
+      throw InputError(chunks.name() + ": more than " + std::to_string(kMaxMjcfBytes >> 20) +
                        " MiB: not an MJCF model (those are kilobytes)");
   }
-  // (the stream catches its buffer's read error and sets badbit: /proc/self/mem named m.xml)
-  if (in.bad()) throw InputError(printable(file) + ": cannot read: read error");
   return text;
 }
 

@@ -52,16 +52,11 @@
 #include <vector>
 
 #include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/text.h"
 
 namespace ldlpgs {
 
 using nlohmann::json;
-
-std::string format_number(double x) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
-  return std::string(buffer, result.ptr);
-}
 
 namespace {
 
@@ -127,14 +122,6 @@ std::string describe(const json& v) {
     s.resize(kMax - 3);
     s += "...";
   }
-  return s;
-}
-
-// Concatenation by appending (GCC 12 warns falsely on "literal" + std::string, DEVELOPERS.md).
-template <typename... Parts>
-std::string cat(const Parts&... parts) {
-  std::string s;
-  (s += ... += parts);
   return s;
 }
 
@@ -427,12 +414,13 @@ const json& array_of(const Entry& e, const json& v, const char* key) {
 
 }  // namespace
 
-Mechanism parse_scene(const json& scene, const std::string& source) {
+Mechanism parse_scene(const json& scene, const std::string& file) {
+  const std::string source = printable(file);  // as messages name the file: one printable line
   const Entry top(source, "", scene);
   top.require_object("the scene");
   top.allow_only({"name", "gravity", "timestep", "bodies", "constraints"}, "a scene");
   Mechanism m;
-  m.name = top.has("name") ? top.string("name") : std::filesystem::path(source).stem().string();
+  m.name = top.has("name") ? top.string("name") : std::filesystem::path(file).stem().string();
   if (top.has("gravity")) m.gravity = top.vector("gravity");
   if (top.has("timestep")) m.timestep = top.positive("timestep");
 
@@ -530,29 +518,19 @@ class DuplicateKeyCheck {
   std::vector<Open> stack_;
 };
 
-// The file as the parser reads it, 64 KiB at a time, each chunk kept in `text` for the messages'
-// line and column. The whole file was read before parsing: a scene that is /dev/zero (a symlink
-// x.json) never failed, and a 2 GB file of NUL bytes took 30 s and 4.2 GB to fail at 1:1. Now
-// the parser stops at the first byte that cannot be JSON, having read one chunk past it at most.
+// The file as the parser reads it, a chunk at a time (FileChunks), each chunk kept in `text` for
+// the messages' line and column: the parser stops at the first byte that cannot be JSON, having
+// read one chunk past it at most.
 class ChunkReader : public std::streambuf {
  public:
-  ChunkReader(const std::string& path, std::streambuf* file, std::string* text) : path_(path), file_(file), text_(text) {}
+  ChunkReader(FileChunks& file, std::string* text) : file_(file), text_(text) {}
 
  protected:
   int_type underflow() override {
-    constexpr std::streamsize kChunk = std::streamsize{1} << 16;
     const size_t old = text_->size();
-    text_->resize(old + kChunk);
-    std::streamsize got = 0;
-    try {
-      got = file_->sgetn(text_->data() + old, kChunk);
-    } catch (const std::ios_base::failure&) {  // libstdc++'s filebuf throws on a read error
-      throw InputError(cat(path_, ": cannot read: read error"));
-    }
-    text_->resize(old + static_cast<size_t>(std::max<std::streamsize>(got, 0)));
-    if (got <= 0) return traits_type::eof();
+    if (!file_.append_to(*text_)) return traits_type::eof();
     char* const begin = text_->data() + old;
-    setg(begin, begin, begin + got);
+    setg(begin, begin, text_->data() + text_->size());
     return traits_type::to_int_type(*begin);
   }
 
@@ -561,22 +539,17 @@ class ChunkReader : public std::streambuf {
   size_t consumed() const { return text_->size() - static_cast<size_t>(egptr() - gptr()); }
 
  private:
-  const std::string& path_;
-  std::streambuf* file_;
+  FileChunks& file_;
   std::string* text_;
 };
 
 }  // namespace
 
-Mechanism load_scene(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(cat(path, ": cannot read: it is a directory"));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw InputError(cat(path, ": cannot read: ", std::strerror(errno)));
-  }
+Mechanism load_scene(const std::string& file) {
+  FileChunks chunked(file);
+  const std::string& path = chunked.name();  // (through printable(): messages stay one line)
   std::string text;  // what the parser has read, and at most a chunk more
-  ChunkReader reader(path, in.rdbuf(), &text);
+  ChunkReader reader(chunked, &text);
   std::istream chunks(&reader);
 
   // "path:line:column" of the character at 0-based offset `at`
@@ -616,7 +589,7 @@ Mechanism load_scene(const std::string& path) {
   if (reader.consumed() > 0 && text[reader.consumed() - 1] == '\0') {
     throw InputError(cat(where(reader.consumed() - 1), ": invalid JSON: a NUL byte after the scene"));
   }
-  return parse_scene(scene, path);
+  return parse_scene(scene, file);
 }
 
 namespace {

@@ -21,7 +21,4 @@ Mechanism load_scene(const std::string& path);  // also refuses unreadable files
 nlohmann::json scene_to_json(const Mechanism& mechanism);
 void save_scene(const Mechanism& mechanism, const std::string& path);
 
-// The shortest text that reads back as x ("0.1", "1e-320", "inf", "nan"), for messages.
-std::string format_number(double x);
-
 }  // namespace ldlpgs

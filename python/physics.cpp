@@ -13,6 +13,7 @@
 #include "ldlpgs/physics/scenes.h"
 #include "ldlpgs/physics/step.h"
 #include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/text.h"
 
 namespace ldlpgs::python {
 

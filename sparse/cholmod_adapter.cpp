@@ -1,12 +1,15 @@
 #include "ldlpgs/sparse/cholmod_adapter.h"
 
 #include <cassert>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/text.h"
 
 namespace ldlpgs {
 
@@ -68,7 +71,7 @@ SymmetricCsc from_cholmod(const cholmod_sparse& a, Cholmod& cm) {
 
 SymmetricCsc cholmod_read(const std::string& path, Cholmod& cm) {
   FILE* f = std::fopen(path.c_str(), "r");
-  if (!f) throw InputError(path + ": cannot open file");
+  if (!f) throw InputError(printable(path) + ": cannot open file: " + std::strerror(errno));
   cholmod_sparse* s = cholmod_read_sparse(f, cm.common());
   std::fclose(f);
   if (!s) throw InputError(path + ": CHOLMOD's reader refused the file");

@@ -15,6 +15,7 @@
 
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/limits.h"
+#include "ldlpgs/sparse/text.h"
 
 namespace ldlpgs {
 namespace {
@@ -27,74 +28,8 @@ namespace {
   throw InputError(path + ": " + problem);
 }
 
-// Lines of a file, numbered from 1, without their "\n" or "\r\n" (files from Windows), read a
-// 64 KiB chunk at a time. Reading the whole file first (as we did) made `ldlpgs order /dev/zero`
-// never return, and a 2 GB file of NUL bytes take 33 s and 4.2 GB before "line 1 is not a Matrix
-// Market file"; now a line longer than the caller allows is refused having read at most that
-// much more of it. Not slower: a 75 MB file of 2M entries reads in 0.7 s (1.0-1.3 s whole, peak
-// 167 MB instead of 240 MB: the text is no longer held beside the entries).
-class LineReader {
- public:
-  static constexpr size_t kChunk = size_t{1} << 16;
-  enum class Got { line, end, too_long };
-
-  explicit LineReader(const std::string& path) : path_(path), f_(std::fopen(path.c_str(), "rb")) {
-    if (!f_) fail(path, "cannot open file");
-  }
-  ~LineReader() { std::fclose(f_); }
-  LineReader(const LineReader&) = delete;
-  LineReader& operator=(const LineReader&) = delete;
-
-  // The next line, valid until the next call. One longer than max_length bytes is too_long,
-  // `line` then its first max_length bytes.
-  Got next(std::string_view& line, size_t max_length) {
-    size_t scanned = pos_;
-    while (true) {
-      const size_t newline = buffer_.find('\n', scanned);
-      const size_t end = newline == std::string::npos ? buffer_.size() : newline;
-      if (end - pos_ > max_length) {
-        ++number_;
-        line = std::string_view(buffer_).substr(pos_, max_length);
-        return Got::too_long;
-      }
-      if (newline != std::string::npos || (eof_ && pos_ < buffer_.size())) {
-        ++number_;
-        line = std::string_view(buffer_).substr(pos_, end - pos_);
-        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-        pos_ = newline == std::string::npos ? end : end + 1;
-        return Got::line;
-      }
-      if (eof_) return Got::end;
-      buffer_.erase(0, pos_);
-      pos_ = 0;
-      scanned = buffer_.size();
-      fill();
-    }
-  }
-  int64_t number() const { return number_; }
-
- private:
-  void fill() {
-    const size_t old = buffer_.size();
-    buffer_.resize(old + kChunk);
-    const size_t got = std::fread(buffer_.data() + old, 1, kChunk, f_);
-    buffer_.resize(old + got);
-    // A directory opens fine with fopen on Linux and only fails on read.
-    if (std::ferror(f_)) fail(path_, "cannot read file");
-    // fread returns less than asked for only at the end of the file (a pipe included).
-    if (got < kChunk) eof_ = true;
-  }
-
-  const std::string& path_;
-  std::FILE* f_;
-  std::string buffer_;
-  size_t pos_ = 0;
-  bool eof_ = false;
-  int64_t number_ = 0;
-};
-
 // The banner is some 50 bytes; a first line not ended within the first chunk is not one.
-constexpr size_t kMaxBannerLength = LineReader::kChunk - 1;
+constexpr size_t kMaxBannerLength = FileChunks::kChunk - 1;
 // A line of an entry is under 100 bytes even written with "%.17g" or padded by Fortran; a
 // megabyte is for comments. Past it the file is binary or broken (/dev/zero after a good banner).
 constexpr size_t kMaxLineLength = size_t{1} << 20;
@@ -324,8 +259,9 @@ void check_symmetric(const std::string& path, const std::vector<Entry>& entries,
 
 }  // namespace
 
-SymmetricCsc read_matrix_market(const std::string& path) {
-  LineReader lines(path);
+SymmetricCsc read_matrix_market(const std::string& file) {
+  LineReader lines(file);
+  const std::string& path = lines.name();  // (through printable(): messages stay one line)
   std::string_view line;
   const LineReader::Got first = lines.next(line, kMaxBannerLength);
   if (first == LineReader::Got::end) fail(path, "file is empty");

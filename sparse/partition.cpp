@@ -4,11 +4,10 @@
 #include <cctype>
 #include <charconv>
 #include <cstdint>
-#include <filesystem>
-#include <fstream>
 #include <string_view>
 
 #include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/text.h"
 
 namespace ldlpgs {
 namespace {
@@ -103,24 +102,26 @@ std::vector<int> partition_refine(const SymmetricCsc& a, std::span<const int> bl
 std::vector<int> read_partition(const std::string& path, int n) {
   // Every message quotes the file name and the line through printable(): one bounded line of
   // printable characters whatever the file holds (binary, a NUL, a megabyte-long line).
-  const std::string name = printable(path);
-  std::ifstream in(path);
-  // A directory opens as an empty stream: it would be reported as blocks summing to 0.
-  std::error_code ec;
-  if (!in || std::filesystem::is_directory(path, ec)) {
-    throw InputError(name + ": cannot open file");
-  }
+  LineReader lines(path);
+  const std::string& name = lines.name();
   std::vector<int> blocks;
   int64_t sum = 0;
   int64_t over_at = 0;  // the line at which the sizes first exceeded n (0: not yet)
-  std::string text;
-  for (int64_t line = 1; std::getline(in, text); ++line) {
+  // A size is a few bytes; a megabyte is for comments. Past it the file is binary (/dev/zero).
+  constexpr size_t kMaxLineLength = size_t{1} << 20;
+  std::string_view text;
+  for (LineReader::Got got; (got = lines.next(text, kMaxLineLength)) != LineReader::Got::end;) {
+    const int64_t line = lines.number();
+    const std::string where = name + ":" + std::to_string(line) + ": ";
     const std::string_view s = trim(text);
-    if (s.empty() || s.front() == '#' || s.front() == '%') continue;
+    const bool comment = s.empty() || s.front() == '#' || s.front() == '%';
+    // (a line the reader cut is never a size: what it starts with is named, unless a comment)
+    if (got == LineReader::Got::too_long && comment)
+      throw InputError(where + "a line longer than 1 MiB: not a block partition");
+    if (comment) continue;
     int size = 0;
     const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), size);
-    const std::string where = name + ":" + std::to_string(line) + ": ";
-    if (ec != std::errc() || end != s.data() + s.size()) {
+    if (ec != std::errc() || end != s.data() + s.size() || got == LineReader::Got::too_long) {
       std::string message = where + "expected a positive integer block size, got '";
       message += printable(s, 40);
       throw InputError(message + "'");
@@ -135,7 +136,6 @@ std::vector<int> read_partition(const std::string& path, int n) {
     sum += size;
     if (sum > n) over_at = line;
   }
-  if (in.bad()) throw InputError(name + ": cannot read file");
   if (over_at) {
     throw InputError(name + ":" + std::to_string(over_at) + ": block sizes reach " + std::to_string(sum) +
                      ", more than the matrix's " + std::to_string(n) + " rows");

@@ -204,7 +204,7 @@ TEST(CholmodRead, Errors) {
     cholmod_read(missing, cm);
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), missing + ": cannot open file");
+    EXPECT_EQ(std::string(e.what()), missing + ": cannot open file: No such file or directory");
   }
   const std::string rectangular = testing::temp_file(
       "rect.mtx", "%%MatrixMarket matrix coordinate real general\n2 3 2\n1 1 1\n2 3 1\n");

@@ -267,7 +267,7 @@ const std::string kBanner = "%%MatrixMarket matrix coordinate real symmetric\n";
 
 TEST(MatrixMarketError, MissingFile) {
   const std::string path = ::testing::TempDir() + "ldlpgs_no_such_file.mtx";
-  EXPECT_EQ(error_of(path), path + ": cannot open file");
+  EXPECT_EQ(error_of(path), path + ": cannot open file: No such file or directory");
 }
 
 TEST(MatrixMarketError, Directory) {
