@@ -27,6 +27,7 @@
 #include "apps/compare.h"
 #include "apps/options.h"
 #include "apps/sweep.h"
+#include "apps/verification.h"
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/physics/scenes.h"
 #include "ldlpgs/sparse/families.h"
