@@ -31,7 +31,7 @@ void print_table(std::FILE* out, const Problem& p, const std::vector<Row>& rows)
 // Three tables (nnz(L), flops, block flops): a row per problem, a column per ordering, the
 // best of each row in bold.
 void print_markdown_by_metric(std::FILE* out, const std::vector<std::pair<Problem, std::vector<Row>>>& results);
-// The problem's matrix, n, blocks and a row per ordering (README.md, "Command-line vocabulary").
+// The problem's matrix, n, blocks and a row per ordering (docs/cli.md, "Command-line vocabulary").
 nlohmann::json to_json(const Problem& p, const std::vector<Row>& rows);
 // order --certify: the certificate's fields, and in each block ordering's row whether it is
 // optimal (its block flops equal the proved optimum or a lower bound).

@@ -1,5 +1,5 @@
 #pragma once
-// The command-line vocabulary (README.md, "Command-line vocabulary"): every option more than one
+// The command-line vocabulary (docs/cli.md, "Command-line vocabulary"): every option more than one
 // subcommand takes is registered here, so each flag is spelled once, and every --json object
 // starts from json_header(). Lists are comma-separated with no spaces; an option that writes a
 // file ends in -file, one that writes a directory in -dir; old spellings are hidden aliases, or

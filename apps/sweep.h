@@ -68,7 +68,7 @@ void print_sweep_markdown(std::FILE* out, const std::vector<SweepPoint>& points)
 void print_sweep_summary(std::FILE* out, const std::vector<SweepPoint>& points);
 void print_stability_markdown(std::FILE* out, const std::vector<Breakdown>& rows);
 nlohmann::json to_json(const std::vector<Breakdown>& rows);
-// The points, one object each (README.md, "Command-line vocabulary").
+// The points, one object each (docs/cli.md, "Command-line vocabulary").
 nlohmann::json to_json(const std::vector<SweepPoint>& points);
 // What `sweep --json` prints and `--json-file` writes: the points and the simulated time of each run.
 nlohmann::json sweep_json(const std::vector<SweepPoint>& points, double seconds);

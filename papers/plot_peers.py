@@ -30,7 +30,7 @@ STYLE = {  # family -> colour; variant -> marker
 MARKERS = ["o", "s", "^", "D", "v"]
 
 
-# The names of `ldlpgs peers --json` before the CLI vocabulary (README.md): runs kept from then
+# The names of `ldlpgs peers --json` before the CLI vocabulary (docs/cli.md): runs kept from then
 # read as they would be printed now.
 OLD_NAMES = {"separation": "position_error_m", "trajectory_error": "trajectory_error_m",
              "rk4_trajectory_error": "rk4_trajectory_error_m", "direct_same_step_error": "direct_same_step_error_m",

@@ -202,7 +202,7 @@ void bind_factor(py::module_& m) {
                    "nnz_L and flops (scalar, as CHOLMOD counts them), block_fill_edges and block_flops (None for "
                    "the -scalar orderings, which may split blocks) and ordering_ms; with cholmod=True also "
                    "cholmod_nnz_L and cholmod_flops, CHOLMOD's counts for the same permutation (the names of "
-                   "the README's vocabulary); chosen, the ordering that gave perm (best's winner); with "
+                   "docs/cli.md's vocabulary); chosen, the ordering that gave perm (best's winner); with "
                    "certify=True also certified_optimal (no block order has fewer block flops), "
                    "lower_bound_block_flops and optimum_proved (the bound is the optimum), as `ldlpgs order "
                    "--certify`, within certify_time_limit_s, and an entry \"optimal\" (chosen \"certify\") with the "

@@ -191,7 +191,7 @@ void bind_physics(py::module_& m) {
                 if (!r.result.ok() && failed++ == 0) failure = r.result.factor.message();
               }
             }
-            // The names of the program's vocabulary (README): units in the names, times medians.
+            // The names of the program's vocabulary (docs/cli.md): units in the names, times medians.
             auto median = [](std::vector<double> v) {
               if (v.empty()) return 0.0;
               std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
@@ -218,7 +218,7 @@ void bind_physics(py::module_& m) {
           "impulses were used) and the first failure's message, the largest position (m) and angular (rad) "
           "errors, velocity residual and deepest penetration after a step (m) (with diagnostics), "
           "post-stabilization iterations, the median solve, step and collision detection times (us) and the "
-          "most contact points in a step, named as in the program's --json (README, Command-line vocabulary).")
+          "most contact points in a step, named as in the program's --json (docs/cli.md, "Command-line vocabulary").")
       .def(
           "add_shape",
           [](Simulation& sim, py::handle body, const std::string& type, py::handle position, py::handle orientation,

@@ -976,7 +976,7 @@ TEST(LdlpgsBadInput, MjcfWithoutMuJoCo) {
 
 #endif
 
-// ---- the command-line vocabulary (README.md, "Command-line vocabulary") ----
+// ---- the command-line vocabulary (docs/cli.md, "Command-line vocabulary") ----
 
 namespace vocabulary_test {
 
@@ -999,9 +999,9 @@ std::vector<std::string> split(const std::string& s, char by) {
   return parts;
 }
 
-// The field table of the README's vocabulary section: rows | `field` | type | in | was |.
+// The field table of docs/cli.md's vocabulary section: rows | `field` | type | in | was |.
 std::vector<Field> read_vocabulary() {
-  std::ifstream in(std::string(LDLPGS_TESTDATA) + "/../../README.md");
+  std::ifstream in(std::string(LDLPGS_TESTDATA) + "/../../docs/cli.md");
   std::vector<Field> fields;
   bool inside = false;
   for (std::string line; std::getline(in, line);) {
@@ -1061,7 +1061,7 @@ void expect_vocabulary(const std::string& command, const nlohmann::json& j, cons
       for (const std::string& old : f.was) EXPECT_FALSE(r->contains(old)) << command << ": " << old << " is now " << f.name;
     }
     if (std::find(f.in.begin(), f.in.end(), command) != f.in.end()) {
-      EXPECT_TRUE(found) << command << " has no " << f.name << " (README.md says it does)";
+      EXPECT_TRUE(found) << command << " has no " << f.name << " (docs/cli.md says it does)";
     }
   }
 }
