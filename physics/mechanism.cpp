@@ -7,6 +7,7 @@
 
 #include "ldlpgs/physics/scene.h"
 #include "ldlpgs/sparse/error.h"
+#include "ldlpgs/sparse/families.h"
 #include "ldlpgs/sparse/text.h"
 
 namespace ldlpgs {
@@ -51,40 +52,14 @@ int Mechanism::num_dynamic_bodies() const {
   return n;
 }
 
-// Two constraints are adjacent iff they share a dynamic body: H_ij = J_i W J_j^T sums over the
-// bodies both touch, and W = 0 on a static body. Grouping the constraints by body gives the
-// edges in O(sum over bodies of degree^2), the size of the output, instead of testing all pairs.
+// The constraint graph of sparse/families.h over the bodies and the chosen constraints.
 BlockPattern Mechanism::constraint_graph(bool equality_only) const {
-  std::vector<int> block_of(constraints.size(), -1);  // constraint -> block, -1 if left out (size constraints)
-  std::vector<int> sizes;                             // rows per block (size blocks)
-  for (size_t c = 0; c < constraints.size(); ++c) {
-    if (equality_only && !is_equality(constraints[c].type)) continue;
-    block_of[c] = static_cast<int>(sizes.size());
-    sizes.push_back(ldlpgs::num_rows(constraints[c].type));
-  }
-  // The blocks on each body, as compressed rows (ptr size bodies+1, blocks_on size 2 * blocks).
-  const size_t nb = bodies.size();
-  std::vector<int> ptr(nb + 1, 0), blocks_on;
-  auto each_dynamic_end = [&](auto&& visit) {
-    for (size_t c = 0; c < constraints.size(); ++c) {
-      if (block_of[c] < 0) continue;
-      for (int body : {constraints[c].body_a, constraints[c].body_b})
-        if (!bodies[body].is_static) visit(body, block_of[c]);
-    }
-  };
-  each_dynamic_end([&](int body, int) { ++ptr[body + 1]; });
-  for (size_t b = 0; b < nb; ++b) ptr[b + 1] += ptr[b];
-  blocks_on.resize(ptr[nb]);
-  std::vector<int> next(ptr.begin(), ptr.end() - 1);
-  each_dynamic_end([&](int body, int block) { blocks_on[next[body]++] = block; });
-
-  std::vector<std::pair<int, int>> edges;
-  for (size_t b = 0; b < nb; ++b) {
-    for (int i = ptr[b]; i < ptr[b + 1]; ++i)
-      for (int j = ptr[b]; j < i; ++j) edges.emplace_back(blocks_on[j], blocks_on[i]);
-  }
-  // graph_from_edges merges the duplicates (two constraints sharing both their bodies).
-  return BlockPattern(sizes, graph_from_edges(static_cast<int>(sizes.size()), edges));
+  BodyGraph graph;
+  graph.is_static.reserve(bodies.size());
+  for (const RigidBody& b : bodies) graph.is_static.push_back(b.is_static);
+  for (const Constraint& c : constraints)
+    if (!equality_only || is_equality(c.type)) graph.joints.push_back({c.body_a, c.body_b, ldlpgs::num_rows(c.type)});
+  return ldlpgs::constraint_graph(graph);
 }
 
 std::vector<std::pair<int, int>> Mechanism::body_graph() const {

@@ -10,25 +10,33 @@
 
 namespace ldlpgs {
 
+// Two joints are adjacent iff they share a dynamic body: H_ij = J_i W J_j^T sums over the bodies
+// both touch, and W = 0 on a static body. Grouping the joints by body gives the edges in
+// O(sum over bodies of degree^2), the size of the output, instead of testing all pairs.
 BlockPattern constraint_graph(const BodyGraph& mechanism) {
-  // Every dynamic body couples all constraints that touch it: a clique per body.
-  std::vector<std::vector<int>> on_body(mechanism.num_bodies());
-  for (int j = 0; j < static_cast<int>(mechanism.joints.size()); ++j) {
-    for (int body : {mechanism.joints[j].body_a, mechanism.joints[j].body_b}) {
-      if (!mechanism.is_static[body]) on_body[body].push_back(j);
-    }
-  }
+  const int nb = mechanism.num_bodies(), nj = static_cast<int>(mechanism.joints.size());
+  // The joints on each dynamic body, as compressed rows (ptr size bodies+1, on_body size <= 2 joints).
+  std::vector<int> ptr(nb + 1, 0), on_body;
+  auto each_dynamic_end = [&](auto&& visit) {
+    for (int j = 0; j < nj; ++j)
+      for (int body : {mechanism.joints[j].body_a, mechanism.joints[j].body_b})
+        if (!mechanism.is_static[body]) visit(body, j);
+  };
+  each_dynamic_end([&](int body, int) { ++ptr[body + 1]; });
+  for (int b = 0; b < nb; ++b) ptr[b + 1] += ptr[b];
+  on_body.resize(ptr[nb]);
+  std::vector<int> next(ptr.begin(), ptr.end() - 1);
+  each_dynamic_end([&](int body, int j) { on_body[next[body]++] = j; });
+
   std::vector<std::pair<int, int>> edges;
-  for (const std::vector<int>& js : on_body) {
-    for (size_t x = 0; x < js.size(); ++x) {
-      for (size_t y = x + 1; y < js.size(); ++y) {
-        if (js[x] != js[y]) edges.emplace_back(js[x], js[y]);
-      }
-    }
-  }
+  for (int b = 0; b < nb; ++b)
+    for (int i = ptr[b]; i < ptr[b + 1]; ++i)
+      for (int k = ptr[b]; k < i; ++k)
+        if (on_body[k] != on_body[i]) edges.emplace_back(on_body[k], on_body[i]);
+  // graph_from_edges merges the duplicates (two joints sharing both their bodies).
   std::vector<int> sizes;
   for (const BodyGraph::Joint& joint : mechanism.joints) sizes.push_back(joint.rows);
-  return BlockPattern(sizes, graph_from_edges(static_cast<int>(sizes.size()), edges));
+  return BlockPattern(sizes, graph_from_edges(nj, edges));
 }
 
 namespace {
