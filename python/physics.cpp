@@ -218,7 +218,7 @@ void bind_physics(py::module_& m) {
           "impulses were used) and the first failure's message, the largest position (m) and angular (rad) "
           "errors, velocity residual and deepest penetration after a step (m) (with diagnostics), "
           "post-stabilization iterations, the median solve, step and collision detection times (us) and the "
-          "most contact points in a step, named as in the program's --json (docs/cli.md, "Command-line vocabulary").")
+          "most contact points in a step, named as in the program's --json (docs/cli.md, Command-line vocabulary).")
       .def(
           "add_shape",
           [](Simulation& sim, py::handle body, const std::string& type, py::handle position, py::handle orientation,
