@@ -16,9 +16,9 @@
 #include "apps/commands.h"
 #include "apps/compare.h"
 #include "apps/options.h"
-#include "bench/competitors.h"
-#include "bench/ldlpgs_solver.h"
-#include "bench/median.h"
+#include "peers/competitors.h"
+#include "peers/ldlpgs_solver.h"
+#include "peers/median.h"
 #include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs::cli {

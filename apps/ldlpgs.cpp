@@ -18,7 +18,7 @@
 #include <string_view>
 
 #include "apps/commands.h"
-#include "bench/competitors.h"
+#include "peers/competitors.h"
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/limits.h"
 #include "ldlpgs/sparse/text.h"
@@ -121,7 +121,7 @@ int extras_error(const CLI::App& app, const std::string& what, int argc, char** 
 
 int main(int argc, char** argv) {
   // `bench` times CHOLMOD supernodal, whose OpenMP threads only a thread limit set before the
-  // program starts bounds (bench/competitors.h): the one subcommand that re-executes itself with
+  // program starts bounds (peers/competitors.h): the one subcommand that re-executes itself with
   // OMP_THREAD_LIMIT=1. (The subcommand is the first word; --no-size-limits takes no value.)
   for (int i = 1; i < argc; ++i)
     if (argv[i][0] != '-') {

@@ -1,5 +1,5 @@
 // ldlpgs peers SCENE: one scene (a JSON file or a built-in name) stepped by every peer engine
-// and every one of our solvers in the same run (bench/peers/peer.h): median wall time per whole
+// and every one of our solvers in the same run (peers/peer.h): median wall time per whole
 // step, the largest joint separation after the run, the deepest penetration of two shapes over
 // the run (the same measure for every engine: our collision detector on the engine's poses; the
 // name step --json gives its own), and the largest distance of any body from
@@ -15,7 +15,7 @@
 
 #include "apps/commands.h"
 #include "apps/options.h"
-#include "bench/peers/peer.h"
+#include "peers/peer.h"
 #include "ldlpgs/physics/mjcf.h"
 #include "ldlpgs/sparse/error.h"
 

@@ -11,7 +11,7 @@
 #include "apps/commands.h"
 #include "apps/options.h"
 #include "apps/shatter_args.h"
-#include "bench/median.h"
+#include "peers/median.h"
 #include "ldlpgs/physics/mjcf.h"
 #include "ldlpgs/physics/scene.h"
 #include "ldlpgs/physics/scenes.h"

@@ -10,7 +10,7 @@
 
 #include "apps/commands.h"
 #include "apps/options.h"
-#include "bench/median.h"
+#include "peers/median.h"
 #include "ldlpgs/physics/step.h"
 
 namespace ldlpgs::cli {

@@ -26,7 +26,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "bench/median.h"
+#include "peers/median.h"
 
 #ifdef LDLPGS_HAVE_ODE
 #include <ode/ode.h>

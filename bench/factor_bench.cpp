@@ -1,5 +1,5 @@
 // factor_bench: time of the numeric factorization and of one solve, ldlpgs's block LDL^T side by
-// side with the competitor direct solvers (bench/competitors.h: CHOLMOD simplicial and
+// side with the competitor direct solvers (peers/competitors.h: CHOLMOD simplicial and
 // supernodal, Eigen's SimplicialLDLT and, for n <= 1000, Eigen's dense LDLT), on the generated
 // mechanisms (H = J W J^T, every family of ldlpgs::family_names() at 22, 63, 253, 1265 and
 // 3000 constraints: about 88 .. 11400 rows; issue 13 asks for 20-60 and 300-3000) and on the
@@ -26,12 +26,12 @@
 //
 // Times are wall-clock (->UseRealTime(), hence the "/real_time" suffix of every name), rates
 // included: CHOLMOD's supernodal factorization may run OpenMP threads (one since main() limits
-// them, bench/competitors.h), whose time the default CPU time of the main thread would leave
+// them, peers/competitors.h), whose time the default CPU time of the main thread would leave
 // out, and `ldlpgs bench` reports wall-clock medians too.
 //
 // CHOLMOD's supernodal factorization is BLAS-3 on its dense fronts (dsyrk, dgemm, dpotrf) and
 // runs at the speed of whichever libblas.so.3 the system's alternatives chose: the context block
-// printed before the results names it ("blas", bench/competitors.h blas_in_use()). Debian's
+// printed before the results names it ("blas", peers/competitors.h blas_in_use()). Debian's
 // reference BLAS makes it several times slower than OpenBLAS (papers/factor.md); build.sh installs
 // OpenBLAS's serial build. Ours, CHOLMOD simplicial and Eigen call no BLAS.
 //
@@ -61,8 +61,8 @@
 #include <vector>
 
 #include "bench/test_matrix_files.h"
-#include "bench/competitors.h"
-#include "bench/ldlpgs_solver.h"
+#include "peers/competitors.h"
+#include "peers/ldlpgs_solver.h"
 #include "ldlpgs/factor/numeric.h"
 #include "ldlpgs/factor/symbolic.h"
 #include "ldlpgs/ordering/ordering.h"

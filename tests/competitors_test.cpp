@@ -4,7 +4,7 @@
 // refactoring gives the same answer; each reports the pivot failures its algorithm has (worked
 // by hand), and CHOLMOD says where; the CHOLMOD ones allocate nothing from the second solve on;
 // unknown names are refused; the BLAS CHOLMOD calls is named by a file that exists.
-#include "bench/competitors.h"
+#include "peers/competitors.h"
 
 #include <gtest/gtest.h>
 

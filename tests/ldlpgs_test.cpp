@@ -250,7 +250,7 @@ TEST(LdlpgsVerify, SingularMatrixIsNotVerified) {
 
 // CHOLMOD supernodal's parallel regions ask for 4 threads whatever OMP_NUM_THREADS says: bench
 // restarts itself under OMP_THREAD_LIMIT=1, so that every solver runs on one core, and names the
-// limit after the BLAS (bench/competitors.h). A limit the user set stands.
+// limit after the BLAS (peers/competitors.h). A limit the user set stands.
 TEST(LdlpgsBench, EverySolverRunsOnOneThread) {
   struct Limit {  // OMP_THREAD_LIMIT for the program run within the scope (popen passes environ)
     explicit Limit(const char* value) {

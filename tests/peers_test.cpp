@@ -1,8 +1,8 @@
-// The peer engines (bench/peers/) against independent references: the small-angle pendulum's
+// The peer engines (peers/) against independent references: the small-angle pendulum's
 // analytic motion, zero joint separation at the initial pose, a scene an engine cannot express
 // skipped with a message, a cube at rest on the ground in every engine, the penetration metric,
 // and the peers command's exit code on bad input.
-#include "bench/peers/peer.h"
+#include "peers/peer.h"
 
 #include <gtest/gtest.h>
 

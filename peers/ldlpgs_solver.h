@@ -5,7 +5,7 @@
 #include <string>
 #include <string_view>
 
-#include "bench/competitors.h"
+#include "peers/competitors.h"
 #include "ldlpgs/factor/numeric.h"
 
 namespace ldlpgs {

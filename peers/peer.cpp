@@ -1,12 +1,12 @@
 // The table of peer engines, our own solvers as entries of it, and what all engines share: the
 // joint separation from our anchors, the penetration metric, the reference run and the
 // trajectory comparison.
-#include "bench/peers/peer.h"
+#include "peers/peer.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "bench/peers/engines.h"
+#include "peers/engines.h"
 #include "ldlpgs/physics/collision.h"
 #include "ldlpgs/physics/step.h"
 

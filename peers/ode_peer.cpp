@@ -20,7 +20,7 @@
 #include <limits>
 #include <mutex>
 
-#include "bench/peers/engines.h"
+#include "peers/engines.h"
 #include "ldlpgs/physics/collision.h"
 
 namespace ldlpgs::peers {

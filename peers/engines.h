@@ -3,7 +3,7 @@
 // (LDLPGS_HAVE_ODE, LDLPGS_HAVE_BULLET, LDLPGS_HAVE_MUJOCO); peer.cpp puts them in the table.
 #include <string>
 
-#include "bench/peers/peer.h"
+#include "peers/peer.h"
 
 namespace ldlpgs::peers {
 

@@ -29,7 +29,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "bench/median.h"
+#include "peers/median.h"
 #include "ldlpgs/physics/mechanism.h"
 
 namespace ldlpgs::peers {

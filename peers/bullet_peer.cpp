@@ -26,7 +26,7 @@
 #include <memory>
 #include <utility>
 
-#include "bench/peers/engines.h"
+#include "peers/engines.h"
 
 namespace ldlpgs::peers {
 

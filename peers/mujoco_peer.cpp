@@ -44,7 +44,7 @@
 #include <sstream>
 #include <utility>
 
-#include "bench/peers/engines.h"
+#include "peers/engines.h"
 #include "ldlpgs/physics/collision.h"
 
 namespace ldlpgs::peers {

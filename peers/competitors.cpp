@@ -1,4 +1,4 @@
-#include "bench/competitors.h"
+#include "peers/competitors.h"
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
