@@ -29,10 +29,9 @@ namespace {
 enum Status : uint8_t { kVariable, kElement, kMerged, kAbsorbed };
 
 // The variables, smallest key first: a binary heap of their ids with each one's place in it, so
-// that a new key moves its variable up or down (a merged one stays until popped). A heap of
-// (key, id) entries with the stale ones skipped at the top, as before, held up to 10,273 entries
-// (240 KB) for bcsstk13's 1,656 blocks under meca, 20,045 pushes and as many pops, and its pops
-// were about a quarter of meca's samples there (perf).
+// that a new key moves its variable up or down (a merged one stays until popped), and the heap
+// never holds more than n ids, where a heap of (key, id) entries with stale ones skipped grew
+// many times n. papers/orderings.md, "MDA and MECA on a quotient graph".
 template <class Key>
 class VariableHeap {
  public:
@@ -162,9 +161,8 @@ std::vector<int> quotient_order(const BlockPattern& pattern, const QuotientOptio
       for (int v : members[e]) add(v);
     }
     // What the count below reads, from the list lengths alone: a count that cannot afford it
-    // gives up before reading its neighbours' lists (the same counts succeed as when the budget was
-    // checked while reading; a failed count of the second tier below had read up to its whole
-    // budget first, and made bcsstk13's meca ordering 7.4-8.4 ms instead of 6.8).
+    // gives up before reading its neighbours' lists, so that a failure costs the lengths, not the
+    // budget (the same counts succeed; papers/orderings.md, "Short lists: the second exact tier").
     for (int u : reach) {
       budget -= static_cast<int64_t>(adj[u].size());
       for (int e : elems[u]) {
@@ -194,26 +192,19 @@ std::vector<int> quotient_order(const BlockPattern& pattern, const QuotientOptio
     return twice_fill / 2;
   };
   // Scores by exact_fill below this many blocks of degree bound, and this many list entries
-  // read. Measured over the test matrices and the families at 20-3000 constraints against
-  // meca-exact (geometric mean of the flop ratio; worst case in parentheses):
-  //   (degree, budget)  none           (8, 512)       (16, 1024)     (32, 4096)
-  //   meca              1.028 (1.52)   1.014 (1.59)   1.004 (1.19)   1.006 (1.22)
-  //   meca-w            1.036 (1.22)   1.006 (1.11)   1.002 (1.08)   1.000 (1.03)
-  // with bcsstk13's ordering time 4.6, 9, 6.4 and 11 ms (AMD 1.5 ms; single runs on a loaded
-  // machine, before the outside rescoring below was restricted). Without it no block is
-  // simplicial until an element covers it, and meca leaves fill on trees.
+  // read: without it no block is simplicial until an element covers it, and meca leaves fill
+  // on trees. The pair trades meca's distance to meca-exact against ordering time
+  // (papers/orderings.md, "MDA and MECA on a quotient graph").
   constexpr int64_t kExactDegree = 16, kExactBudget = 1024;
   // Past that degree a block is still counted exactly when its lists are short: at most
   // kShortLists entries in A_i and the L_e of E_i (their lengths; merged and eliminated ids in
   // an L_e count too), and at most kShortBudget entries of the L_e and the neighbours' lists
-  // read. A grid's late blocks are such: dozens of blocks in a few
-  // supervariables (median 57-78 entries read per count at degrees 16-64 on grid-5000), where
-  // bcsstk13's read 570-930. Without this tier meca was 16 % above meca-exact on grid-5000
-  // (145M against 124M flops), 4.7 % on grid-3000; with it equal on every grid. A count that
-  // runs out of budget is not tried again until the block's degree bound falls below the
-  // degree it failed at (failed_at), so that a block read in vain costs once; nor is one whose
-  // lists were too long. (A heuristic: the bound may grow again, and lists shrink as elements
-  // are absorbed, so a block may stay approximate after it became cheap to count.)
+  // read. A grid's late blocks are such (dozens of blocks in a few supervariables), which the
+  // first tier left well above meca-exact. A count that runs out of budget is not tried again
+  // until the block's degree bound falls below the degree it failed at (failed_at), so that a
+  // block read in vain costs once; nor is one whose lists were too long. (A heuristic: the bound
+  // may grow again, and lists shrink as elements are absorbed, so a block may stay approximate
+  // after it became cheap to count.) papers/orderings.md, "Short lists: the second exact tier".
   constexpr int64_t kShortLists = 32, kShortBudget = 256;
   std::vector<int64_t> failed_at(n, INT64_MAX);  // degree bound at the last failed count (size n)
   auto try_exact = [&](int i) -> int64_t {
@@ -413,10 +404,9 @@ std::vector<int> quotient_order(const BlockPattern& pattern, const QuotientOptio
     // A pivot known to be simplicial (exact fill 0) created no edge, and a block next to only
     // one block of L_p gained no edge among its neighbours: both are skipped.
     // For meca, a block too large to count keeps its approximate score, but its neighbours in
-    // L_p are now a clique: where they outweigh its cover (the largest element), they become it.
-    // Blocks of the test matrices and families whose order this changes: bcsstk13, meca 72.4M ->
-    // 56.3M flops (meca-exact 60.7M), and dwt_992, 1.036M -> 1.031M; no other. For meca-w it
-    // was measured and not kept: bcsstk13 50.9M -> 51.6M (meca-w-exact 47.3M).
+    // L_p are now a clique: where they outweigh its cover (the largest element), they become it
+    // (not for meca-w, where it measured worse: papers/orderings.md, "MDA and MECA on a quotient
+    // graph").
     if (opt.score == QuotientScore::fill && exact[p] != 0) {
       ++stamp;
       for (int i : lp) mark[i] = stamp;

@@ -23,8 +23,8 @@ struct ArgumentError : std::invalid_argument {
 
 // Input text as it may appear in a one-line message: control bytes, DEL and bytes >= 0x80 (binary
 // or UTF-8) written as \xNN, a backslash as \\, and cut after max_chars with "..." (a 1 MB
-// one-line JSON file, a NUL inside a matrix entry and raw binary all made unbounded, cut or
-// multi-line messages before: issue 14). escape_backslash = false is for text that is printable
+// one-line JSON file, a NUL inside a matrix entry and raw binary would make unbounded, cut or
+// multi-line messages otherwise). escape_backslash = false is for text that is printable
 // already, a message whose quotes printable() made, so that its \xNN are not made \\xNN.
 inline std::string printable(std::string_view text, size_t max_chars = 300, bool escape_backslash = true) {
   static constexpr char kHex[] = "0123456789abcdef";
