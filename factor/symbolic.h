@@ -157,6 +157,7 @@ class Symbolic {
   void check_pattern(const SymmetricCsc& a, const char* what) const;
 
  private:
+  struct Steps;  // analyze's phases (symbolic.cpp)
   int n_ = 0;
   std::string ordering_;              // Ordering::chosen of the ordering analysed, or empty
   std::vector<int> block_;            // original block of each pivot (size num_pivots)
