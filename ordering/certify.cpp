@@ -421,6 +421,7 @@ double zero_fill_block_flops(const BlockPattern& pattern) {
   return zero_fill_flops(adj, pattern.block_sizes(), all, in);
 }
 
+// Long: the proof's steps in order (1. peeling, 2. atoms, 3. search, 4. bound, then the order), sharing graph and deadline.
 BlockFlopsCertificate certify_block_flops(const BlockPattern& pattern, double time_limit_s, std::span<const int> pivots) {
   const auto start = Clock::now();
   const auto deadline = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(time_limit_s));
