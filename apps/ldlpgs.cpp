@@ -1,7 +1,7 @@
 // ldlpgs: the command-line program. Subcommands: order, report, verify, bench, step, export, spy, sweep, peers (ldlpgs SUBCOMMAND --help).
 // Bad input ends with a one-line message naming the file, line and problem, and exit code 2; the
-// options every subcommand shares, and their names, are in apps/options.h (README.md,
-// "Command-line vocabulary"). The last line of defence (issue 14): no exception ends in
+// options every subcommand shares, and their names, are in apps/options.h (docs/cli.md,
+// "Command-line vocabulary"). The last line of defence: no exception ends in
 // std::terminate. Running out of memory is exit 2 naming the input, as bad input is (a size line
 // or a family size too large for this machine); any other exception is a bug of ours, exit 3,
 // its message printed as one bounded line.

@@ -64,7 +64,8 @@ int run_spy(const SpyArgs& a) {
     block_sizes.push_back(symbolic.size(k));
   }
   // Only when they are written: on the 1000-arm star these lists are 1M small JSON arrays, built
-  // and freed for a summary line that does not show them (spy 0.85-0.92 -> 0.49 s; issue 15).
+  // and freed for a summary line that does not show them (papers/factor.md, "Supernodes: before
+  // and after").
   const bool write_lists = a.json || !a.out.empty();
   for (int k = 0; write_lists && k < np; ++k) {  // column by column, rows ascending
     std::vector<int> rows = {k};

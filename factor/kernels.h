@@ -11,9 +11,8 @@
 
 // Every loop below whose trip count is a block size is unrolled: GCC unrolls a loop of fixed
 // trip count fully only when its body is small, and left the nested loops of the kernels as
-// loops (ldl_node<5>: 206 instructions, 24 branches, 36 ns on independent nodes; unrolled 13.5
-// ns). Chain-300 24 -> 21 us (papers/factor.md, "Per-pivot overhead"). A run-time size (N = 0)
-// is unrolled by 8 with a remainder; the loops over rows of E (h) carry no pragma (begin_l).
+// loops, with a branch per iteration (papers/factor.md, "Per-pivot overhead"). A run-time size
+// (N = 0) is unrolled by 8 with a remainder; the loops over rows of E (h) carry no pragma (begin_l).
 #define LDLPGS_UNROLL _Pragma("GCC unroll 8")
 
 // Two builds of these kernels live in the library (factor/passes.h): the x86-64 baseline (SSE2,
@@ -96,9 +95,7 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
     // loop each node waits for the one before it, so the time per pivot is this chain's
     // latency: the division, then u^2 / d and the subtraction that ends d_{j+1}. u_jk^2 is
     // squared while the division runs, leaving one multiply between 1 / d_j and d_{j+1}
-    // (u_jk l_jk, kept before, left two): factor_bench, before/after alternated on both cores,
-    // loop 0.92-0.96x the time, chain 0.97x, the rest 0.96-1.05x (papers/factor.md, "The
-    // pivot's latency"). u^2 overflows for |u| > 2^512 where u^2 / d does not (a positive definite
+    // (u_jk l_jk, kept before, left two; papers/factor.md, "The pivot's latency"). u^2 overflows for |u| > 2^512 where u^2 / d does not (a positive definite
     // 3 x 3 with entries near 1e200 gave a pivot of -inf: found in review,
     // Numeric.LargeEntriesOfAPositiveDefiniteNode): a pivot that fails its check is computed
     // again from u_jk l_jk, kept in u, before it is reported, so an overflow of the squares
@@ -142,9 +139,8 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
 // and add or subtract each, never fused: factor/CMakeLists.txt sets -ffp-contract=off), so the
 // values are those of the row-by-row loops bit for bit, in either build (kernels_test:
 // KernelsPairs, compiled once per build; numeric_test: FactorHarness, against the SSE2 build). GCC 12 vectorized none of the
-// scalar forms: their dot products are ordered sums, which it may not reassociate. factor_bench on
-// an AMD EPYC, 2 lanes: chain-253 22.3 -> 15.5 us, star-1265 149 -> 109 us, grid-1265's solve
-// 156 -> 114 us; 4 lanes: papers/factor.md "Four lanes with AVX2".
+// scalar forms: their dot products are ordered sums, which it may not reassociate.
+// papers/factor.md, "Two rows per instruction, and the factor keeps Y" and "Four lanes with AVX2".
 inline constexpr int kLanes = LDLPGS_LANES;
 using V = double __attribute__((vector_size(8 * LDLPGS_LANES)));
 using V2 = double __attribute__((vector_size(16)));
@@ -198,11 +194,11 @@ inline void solve_node(const double* a, const double* inv_d, double* x, int n) {
 // (eliminate_single), whose end_l turns it into L_{*,k} (l = L_kk^-T y, back substitution):
 // the solve applies L_{*,k} z as Y (L_kk^-1 z), and L_kk^-1 z is the node's own forward
 // substitution, so Y costs the solve nothing but latency: L_kk^-1 z then stands between one
-// column and the next, which on a chain, where every column waits for the previous one, made
-// the solve 40 % slower (chain-253 5.0 -> 7.0 us), more than the factorization gained (numeric.h,
-// papers/factor.md "Two rows per instruction, and the factor keeps Y"). Substitution, not the explicit inverse the talk
-// multiplies by: with the inverse the backward error of ladder and grid mechanisms grew from
-// 2e-17 to 8e-14 (papers/factor.md).
+// column and the next, which on a chain, where every column waits for the previous one, slowed
+// the solve more than the factorization gained (numeric.h; papers/factor.md, "Two rows per
+// instruction, and the factor keeps Y"). Substitution, not the explicit inverse the talk
+// multiplies by: the inverse raised the backward error of ladder and grid mechanisms by orders
+// of magnitude for no speed (papers/factor.md, "What the measurements decided").
 // One pack of rows (as many as T has lanes) of begin_l and end_l.
 template <int N, class T>
 inline void begin_pack(double* __restrict y, double* __restrict w, const double* __restrict node,
@@ -369,8 +365,7 @@ struct SingleTable<std::index_sequence<I...>> {
   static constexpr SingleFn fns[sizeof...(I)] = {&eliminate_single<static_cast<int>(I / 6) + 1, static_cast<int>(I % 6) + 1>...};
 };
 // kSingle[6 (N - 1) + DB - 1]: one indirect call picks both sizes (the general path switches
-// twice, dispatch_size). Chain-253 24.1-25.0 -> 22.5-22.9 us, star-253 -6 %, ladder-253 +2-5 %
-// (factor_bench, papers/factor.md).
+// twice, dispatch_size); papers/factor.md, "Per-pivot overhead".
 inline constexpr const SingleFn* kSingle = SingleTable<std::make_index_sequence<36>>::fns;
 
 // The same subtraction for a BLAS supernode (dense.h), whose product C = W Y^T is already

@@ -180,7 +180,7 @@ void Numeric::prepare(const FactorOptions& options) {
                              smallest);
   // At the edges of double the elimination breaks though the matrix is fine: 1 / d overflows for
   // a subnormal pivot (1e-314: "ok", then a NaN solution), 1e-12 |H_rr| underflows to 0, a
-  // Schur update overflows near 1e308 (issue 14). Factoring 2^-e H instead is exact (a power of
+  // Schur update overflows near 1e308. Factoring 2^-e H instead is exact (a power of
   // two) and gives the same L and 2^-e D; solve() scales b alike, so x is unchanged. e centres
   // the nonzero diagonal's binades on 1, but keeps every entry below 2^1000. Inside
   // [2^-500, 2^500] nothing can go out of range (pivot ratios, the 1e-12 floor and the fill

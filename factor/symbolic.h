@@ -37,34 +37,24 @@ namespace ldlpgs {
 // eliminates with BLAS. The defaults come from measurements (papers/factor.md, "Supernodes").
 struct SymbolicOptions {
   // A maximal run of nested pivots becomes one supernode when it has at least this many rows
-  // and its front (its rows and the rows of L below them) at least supernode_min_front; 0 keeps
-  // every pivot alone (a huge value cuts every run into small supernodes, below). A front of
-  // under 128 rows is faster per block: heavy-22's 89-row dense H factors in 25 us per block and
-  // 34 us as one BLAS supernode, bcsstk02's 66 in 11 and 33 us; heavy-63's 260 in 468 against
-  // 386 us (papers/factor.md, "Supernodes").
-  // 16 rows rather than the 32 first chosen, with blas_min_rows, once small supernodes and
-  // Cholesky panels came: bcsstk13 0.94x the time, every other factor_bench problem within
-  // -5 % to +1.4 % ("Small supernodes and Cholesky panels").
+  // and its front (its rows and the rows of L below them) at least supernode_min_front: under
+  // 128 rows a front is faster per block than on BLAS. 0 keeps every pivot alone (a huge value
+  // cuts every run into small supernodes, below). papers/factor.md, "Supernodes: before and after"
+  // and "Small supernodes and Cholesky panels".
   int supernode_min_rows = 16;
   int supernode_min_front = 128;
   // A run of nested pivots that is not one supernode by the two rules above is cut into
   // supernodes of at most this many rows (greedily, in pivot order), which the unrolled kernels
-  // of that width eliminate (kernels.h unrolls 1-6): scalar pivots of structural matrices pay the
-  // per-pivot cost once per 6 rows, and two 3-row blocks of a grid run as one 6-row kernel.
-  // Measured with factor_bench, before/after binaries alternated (papers/factor.md, "Small
-  // supernodes and Cholesky panels"): dwt_992 0.53x the time, bcsstk13 0.61x, jagmesh7 0.66x,
-  // heavy-22 0.89x, the other mechanisms within -6..+5 %. 1 (or supernode_min_rows 0) keeps
-  // such pivots alone.
+  // of that width eliminate (kernels.h unrolls 1-6): scalar pivots pay the per-pivot cost once
+  // per 6 rows, and two 3-row blocks of a grid run as one 6-row kernel. 1 (or supernode_min_rows
+  // 0) keeps such pivots alone. papers/factor.md, "Small supernodes and Cholesky panels".
   int small_supernode_max_rows = 6;
   // A small supernode may also take pivots that do not nest, when each is the previous one's
   // parent (CHOLMOD's relaxed amalgamation: the group's columns are stored over the union of
   // their rows, with explicit zeros), as long as the zeros are at most this fraction of the
   // entries it stores below its diagonal blocks. 0: nested runs only. The factor's counts
-  // (nnz_l, flops) and Numeric::scalar_ldl stay those of L; num_values counts the zeros. factor_bench,
-  // 0 and 0.5 alternated, lowest of two medians: bcsstk13 0.92x the time, bcsstk01 0.68x,
-  // pts5ldd03 0.82x, 494_bus 0.86x, bcspwr06 0.86x, jagmesh7 0.94x, dwt_992 0.97x; the mechanisms
-  // within -3..+3 % (their 3-6-row blocks rarely fit two in 6 rows). 0.2-0.8 gave the same
-  // supernodes within 0.5 % on bcsstk13 (papers/factor.md, "Relaxed small supernodes").
+  // (nnz_l, flops) and Numeric::scalar_ldl stay those of L; num_values counts the zeros.
+  // papers/factor.md, "Relaxed small supernodes".
   double relax_max_zeros = 0.5;
   // Supernodes of at least this many rows are eliminated with dense.h (BLAS), the rest with the
   // kernels of kernels.h at their width.
@@ -72,18 +62,13 @@ struct SymbolicOptions {
   // The RSI's budget: at most this many indices per entry of L (nnz_l). Over it, the supernodes
   // with the most runs scatter through a map of each target supernode's rows instead, built by
   // the numeric phase in O(rows of the target) (CHOLMOD's relative map, Map in
-  // cholmod_super_numeric): on bcsstk13 the runs of its narrow columns with many edge blocks were
-  // 2.3M indices for 292k entries of L. The mechanisms' runs fit (chains, trees, grids: 0.2-0.5
-  // per entry), so they keep them and their speed. 0: every supernode mapped; negative: none
-  // (papers/factor.md, "Relative maps", measures both).
+  // cholmod_super_numeric): narrow columns with many edge blocks make many more runs than
+  // entries of L. The mechanisms' runs fit and keep their speed. 0: every supernode mapped;
+  // negative: none. papers/factor.md, "Relative maps".
   double rsi_max_per_entry = 1.0;
-  // ... but never below this many indices (2^16, 256 KB), unless rsi_max_per_entry is 0: the
-  // maps cost up to 1.9x on the small scalar-block test matrices, whose runs outnumber their entries
-  // of L (`ldlpgs bench --rsi-min-entries 0`: dwt_992 284 against 276 us, bcspwr06 48 against
-  // 26, jagmesh7 95 against 74). It was 2^18 while those had up to 294k runs (dwt_992); since
-  // the small and relaxed supernodes the most is dwt_992's 59,690, so 2^16 keeps every one of
-  // them unmapped and leaves bcsstk13 the budget of its L: 252,094 indices for nnz(L) 253,999
-  // (260,184 under the old floor), 60 supernodes mapped against 57, its time within the noise.
+  // ... but never below this many indices (2^16, 256 KB), unless rsi_max_per_entry is 0: small
+  // matrices of scalar blocks have more runs than entries of L, and mapping them costs more than
+  // their runs' memory. papers/factor.md, "Relative maps".
   int64_t rsi_min_entries = int64_t{1} << 16;
 };
 
@@ -172,6 +157,7 @@ class Symbolic {
   void check_pattern(const SymmetricCsc& a, const char* what) const;
 
  private:
+  struct Steps;  // analyze's phases (symbolic.cpp)
   int n_ = 0;
   std::string ordering_;              // Ordering::chosen of the ordering analysed, or empty
   std::vector<int> block_;            // original block of each pivot (size num_pivots)

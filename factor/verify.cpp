@@ -49,7 +49,7 @@ std::pair<double, double> factor_differences(const SymmetricCsc& ours, const Sym
 // Stability, algorithm 15.1; LAPACK's dlacon) from solves with the factorization; A is symmetric,
 // so A^-T solves are A^-1 solves. The right-hand sides are multiplied by c = 2^ilogb(||A||_1), so
 // the solves return c A^-1 x, of the size of cond itself: ||A^-1||_1 alone overflows for a
-// well-conditioned matrix at 1e-314 (issue 14). c is a power of two: no rounding but subnormal.
+// well-conditioned matrix at 1e-314. c is a power of two: no rounding but subnormal.
 double condition_estimate(const SymmetricCsc& a, Numeric& f) {
   const int n = a.n;
   const double norm = norm_inf(a);  // = ||A||_1 for symmetric A

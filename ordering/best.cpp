@@ -1,8 +1,7 @@
 // best: the cheap block orderings, each run once, and the one with the fewest block flops
 // (metrics.h, the cost the block LDL^T pays). No heuristic wins everywhere: on the talk's
-// tracked vehicle meca gives 41,400 block flops where meca-w and amd give the optimum 38,300
-// (issue 15), and mda and amd are up to 31% worse than meca-w on the shattered multi-wheeled
-// vehicle. The cost is the sum of the candidates' times plus one eliminate() per distinct
+// tracked vehicle meca-w and amd find the optimum and meca does not; on the shattered
+// multi-wheeled vehicle mda and amd lose to meca-w. The cost is the sum of the candidates' times plus one eliminate() per distinct
 // order (O(blocks of L)); measured in papers/orderings.md ("The best order, with a certificate").
 //
 // Ties (equal block flops) go to the fewer block fill edges, then to the earlier candidate in
@@ -22,8 +21,8 @@ Choice choose_best(const BlockPattern& pattern) {
   Choice best;
   BlockCosts best_costs;
   // Candidates often agree (on the 1000-arm star meca, mda and mda-w give one order, meca-w and
-  // amd another): an order seen before is not played again. The game was 18 % of `spy` there;
-  // spy 0.56-0.71 -> 0.52-0.60 s (five alternated runs).
+  // amd another): an order seen before is not played again
+  // (papers/orderings.md, "The best order, with a certificate").
   std::vector<std::pair<std::vector<int>, BlockCosts>> seen;  // (size candidates)
   for (std::string_view name : kBestCandidates) {
     const OrderingInfo& info = find_ordering(name);

@@ -10,7 +10,7 @@
 //    H containing G of n + 3E(H) + 2T(H): a triangulation's cost grows with its edges, and any
 //    perfect elimination order of H eliminates G with a filled graph inside H.
 // 1. Peeling. If v is simplicial (its neighbours pairwise adjacent), some optimal order
-//    eliminates v first: OPT(G) = f(d_v, w(N(v))) + OPT(G - v). The issue states it for fill;
+//    eliminates v first: OPT(G) = f(d_v, w(N(v))) + OPT(G - v). Usually stated for fill;
 //    for block flops it follows from 0 (a triangulation of G - v plus v is one of G, with no
 //    more edges), or directly: take any order pi, and pi' = v first, then pi without v. A fill
 //    path of G - v is one of G, so every u != v has in pi' a subset of its pi neighbourhood,
@@ -28,7 +28,7 @@
 //    G2 whose union, glued along the clique C, is chordal, no larger than H, and costs by
 //    n + 3E + 2T the sum of theirs less C's (every clique of the union lies in G1 or G2, those
 //    in C counted twice); and gluing optimal triangulations of G1 and G2 gives one of G. So the
-//    issue's rule for fill holds for block flops, with the separator's own cost subtracted. The
+//    rule known for fill holds for block flops, with the separator's own cost subtracted. The
 //    separators come from Tarjan's decomposition (1985) over a minimal elimination ordering from
 //    MCS-M (Berry, Blair, Heggernes, Peyton 2004); each is checked to be a separating clique
 //    before it is used, so a separator the method misses costs time, not correctness.
@@ -421,6 +421,7 @@ double zero_fill_block_flops(const BlockPattern& pattern) {
   return zero_fill_flops(adj, pattern.block_sizes(), all, in);
 }
 
+// Long: the proof's steps in order (1. peeling, 2. atoms, 3. search, 4. bound, then the order), sharing graph and deadline.
 BlockFlopsCertificate certify_block_flops(const BlockPattern& pattern, double time_limit_s, std::span<const int> pivots) {
   const auto start = Clock::now();
   const auto deadline = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(time_limit_s));

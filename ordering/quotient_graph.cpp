@@ -29,10 +29,9 @@ namespace {
 enum Status : uint8_t { kVariable, kElement, kMerged, kAbsorbed };
 
 // The variables, smallest key first: a binary heap of their ids with each one's place in it, so
-// that a new key moves its variable up or down (a merged one stays until popped). A heap of
-// (key, id) entries with the stale ones skipped at the top, as before, held up to 10,273 entries
-// (240 KB) for bcsstk13's 1,656 blocks under meca, 20,045 pushes and as many pops, and its pops
-// were about a quarter of meca's samples there (perf).
+// that a new key moves its variable up or down (a merged one stays until popped), and the heap
+// never holds more than n ids, where a heap of (key, id) entries with stale ones skipped grew
+// many times n. papers/orderings.md, "MDA and MECA on a quotient graph".
 template <class Key>
 class VariableHeap {
  public:
@@ -87,377 +86,420 @@ class VariableHeap {
   std::vector<int> heap_;   // ids not yet popped, merged ones included (size at most n)
   std::vector<int> place_;  // place_[i]: i's index in heap_, or -1 (size n)
 };
-}  // namespace
 
-std::vector<int> quotient_order(const BlockPattern& pattern, const QuotientOptions& opt,
-                                std::vector<QuotientStep>* trace) {
-  const int n = pattern.num_blocks();
-  const Graph& graph = pattern.graph();
-  std::vector<uint8_t> status(n, kVariable);  // what id i is now (size n)
-  std::vector<std::vector<int>> adj(n);       // A_i: variables, original edges (size n)
-  std::vector<std::vector<int>> elems(n);     // E_i: elements of variable i (size n)
-  std::vector<std::vector<int>> members(n);   // L_e: variables of element e (size n)
-  std::vector<Mass> mass(n);                  // variable: its blocks; element: live L_e
-  std::vector<Mass> degree(n);                // d_i, the external degree bound (size n)
-  std::vector<int64_t> heaviest(n);           // largest block weight in supervariable i
-  std::vector<int> tie_index(n);              // the block index the tie rule reads (size n)
-  std::vector<std::vector<int>> blocks(n);    // blocks merged into supervariable i (size n)
-  Mass live;                                  // mass of all variables not yet eliminated
-  for (int i = 0; i < n; ++i) {
-    const int64_t w = opt.weighted ? pattern.block(i).size : 1;
-    mass[i] = {1, w, w * w};
-    heaviest[i] = w;
-    tie_index[i] = i;
-    blocks[i] = {i};
-    live += mass[i];
-    auto nb = graph.neighbors(i);
-    adj[i].assign(nb.begin(), nb.end());
-  }
-  for (int i = 0; i < n; ++i) {
-    for (int j : adj[i]) degree[i] += mass[j];
-  }
+// Key: (score, secondary, tie, id), smallest first. The secondary is the block degree for
+// meca-w's least_degree rule; the tie index is negated for highest_index.
+using Key = std::tuple<int64_t, int64_t, int, int>;
 
-  // Key: (score, secondary, tie, id), smallest first. The secondary is the block degree for
-  // meca-w's least_degree rule; the tie index is negated for highest_index.
-  using Key = std::tuple<int64_t, int64_t, int, int>;
-  std::vector<Key> key(n);
-  std::vector<int64_t> exact(n, -1);  // exact fill of i when known, else -1 (size n)
-  std::vector<Mass> cover(n);  // the largest element mass among E_i, minus i's own (size n)
-  auto make_key = [&](int i) {
-    int64_t s;
-    if (opt.score == QuotientScore::degree) {
-      s = degree[i].w + mass[i].w - heaviest[i];
-    } else if (exact[i] >= 0) {
-      s = exact[i];
-    } else {
-      s = std::max<int64_t>(0, degree[i].pairs() - cover[i].pairs());
+// Scores by exact_fill below this many blocks of degree bound, and this many list entries
+// read: without it no block is simplicial until an element covers it, and meca leaves fill
+// on trees. The pair trades meca's distance to meca-exact against ordering time
+// (papers/orderings.md, "MDA and MECA on a quotient graph").
+constexpr int64_t kExactDegree = 16, kExactBudget = 1024;
+// Past that degree a block is still counted exactly when its lists are short: at most
+// kShortLists entries in A_i and the L_e of E_i (their lengths; merged and eliminated ids in
+// an L_e count too), and at most kShortBudget entries of the L_e and the neighbours' lists
+// read. A grid's late blocks are such (dozens of blocks in a few supervariables), which the
+// first tier left well above meca-exact. A count that runs out of budget is not tried again
+// until the block's degree bound falls below the degree it failed at (failed_at), so that a
+// block read in vain costs once; nor is one whose lists were too long. (A heuristic: the bound
+// may grow again, and lists shrink as elements are absorbed, so a block may stay approximate
+// after it became cheap to count.) papers/orderings.md, "Short lists: the second exact tier".
+constexpr int64_t kShortLists = 32, kShortBudget = 256;
+
+// The elimination on the quotient graph, one pivot supervariable per step (run): take the
+// cheapest, output its blocks, make it an element (form_element), count |L_e \ L_p|
+// (count_outside), update the variables of L_p (update_variables), merge the indistinguishable
+// ones (merge_supervariables), score them again (rekey_element) and the blocks outside L_p
+// whose fill the new element may have lowered (rescore_outside).
+class QuotientGame {
+ public:
+  QuotientGame(const BlockPattern& pattern, const QuotientOptions& opt)
+      : pattern_(pattern), opt_(opt), n_(pattern.num_blocks()), status_(n_, kVariable), adj_(n_), elems_(n_),
+        members_(n_), mass_(n_), degree_(n_), heaviest_(n_), tie_index_(n_), blocks_(n_), key_(n_), exact_(n_, -1),
+        cover_(n_), in_reach_(n_, 0), near_(n_, 0), failed_at_(n_, INT64_MAX), last_i_(n_, 0), in_lp_(n_), heap_(key_),
+        mark_(n_, 0), seen_(n_, 0), outside_(n_), hash_(n_) {
+    const Graph& graph = pattern.graph();
+    for (int i = 0; i < n_; ++i) {
+      const int64_t w = opt.weighted ? pattern.block(i).size : 1;
+      mass_[i] = {1, w, w * w};
+      heaviest_[i] = w;
+      tie_index_[i] = i;
+      blocks_[i] = {i};
+      live_ += mass_[i];
+      auto nb = graph.neighbors(i);
+      adj_[i].assign(nb.begin(), nb.end());
     }
-    const int64_t secondary = opt.tie == TieBreak::least_degree ? degree[i].c + mass[i].c - 1 : 0;
-    const int t = opt.tie == TieBreak::highest_index ? -tie_index[i] : tie_index[i];
+    for (int i = 0; i < n_; ++i) {
+      for (int j : adj_[i]) degree_[i] += mass_[j];
+    }
+    for (int i = 0; i < n_; ++i) {
+      rescore(i);
+      rekey(i);
+    }
+  }
+
+  std::vector<int> run(std::vector<QuotientStep>* trace) {
+    std::vector<int> pivots;
+    pivots.reserve(n_);
+    while (!heap_.empty()) {
+      const int p = heap_.pop();
+      if (status_[p] != kVariable) continue;  // merged into a supervariable
+      output_blocks(p, pivots);
+      const Mass lp_mass = form_element(p);
+      count_outside();
+      update_variables(p, lp_mass);
+      merge_supervariables();
+      rekey_element(p, trace);
+      if (opt_.score == QuotientScore::fill && exact_[p] != 0) rescore_outside(p);
+      std::vector<int>().swap(blocks_[p]);
+    }
+    assert(static_cast<int>(pivots.size()) == n_);
+    return pivots;
+  }
+
+ private:
+  Key make_key(int i) const {
+    int64_t s;
+    if (opt_.score == QuotientScore::degree) {
+      s = degree_[i].w + mass_[i].w - heaviest_[i];
+    } else if (exact_[i] >= 0) {
+      s = exact_[i];
+    } else {
+      s = std::max<int64_t>(0, degree_[i].pairs() - cover_[i].pairs());
+    }
+    const int64_t secondary = opt_.tie == TieBreak::least_degree ? degree_[i].c + mass_[i].c - 1 : 0;
+    const int t = opt_.tie == TieBreak::highest_index ? -tie_index_[i] : tie_index_[i];
     return Key{s, secondary, t, i};
-  };
+  }
+  void rekey(int i) {
+    key_[i] = make_key(i);
+    heap_.update(i);
+  }
+  void rescore(int i) { exact_[i] = opt_.score == QuotientScore::fill ? try_exact(i) : -1; }
+
   // The exact fill of i, when its neighbourhood is small: for each neighbour u (a supervariable:
   // its blocks are pairwise adjacent, and adjacent to v in full or not at all), the weight of
   // the other neighbours it is not adjacent to. Gives up (returns -1) past `budget` list
   // entries read, so that a hub of a star or a clique keeps the approximation.
-  std::vector<int> in_reach(n, 0), near(n, 0);  // stamps (size n)
-  int reach_stamp = 0, near_stamp = 0;
-  std::vector<int> reach;
-  auto exact_fill = [&](int i, int64_t budget) -> int64_t {
-    ++reach_stamp;
-    in_reach[i] = reach_stamp;
-    reach.clear();
+  int64_t exact_fill(int i, int64_t budget) {
+    ++reach_stamp_;
+    in_reach_[i] = reach_stamp_;
+    reach_.clear();
     int64_t total = 0;
     auto add = [&](int v) {
-      if (status[v] == kVariable && in_reach[v] != reach_stamp) {
-        in_reach[v] = reach_stamp;
-        reach.push_back(v);
-        total += mass[v].w;
+      if (status_[v] == kVariable && in_reach_[v] != reach_stamp_) {
+        in_reach_[v] = reach_stamp_;
+        reach_.push_back(v);
+        total += mass_[v].w;
       }
     };
-    for (int v : adj[i]) add(v);
-    for (int e : elems[i]) {
-      if (status[e] != kElement) continue;
-      budget -= static_cast<int64_t>(members[e].size());
-      for (int v : members[e]) add(v);
+    for (int v : adj_[i]) add(v);
+    for (int e : elems_[i]) {
+      if (status_[e] != kElement) continue;
+      budget -= static_cast<int64_t>(members_[e].size());
+      for (int v : members_[e]) add(v);
     }
     // What the count below reads, from the list lengths alone: a count that cannot afford it
-    // gives up before reading its neighbours' lists (the same counts succeed as when the budget was
-    // checked while reading; a failed count of the second tier below had read up to its whole
-    // budget first, and made bcsstk13's meca ordering 7.4-8.4 ms instead of 6.8).
-    for (int u : reach) {
-      budget -= static_cast<int64_t>(adj[u].size());
-      for (int e : elems[u]) {
-        if (status[e] == kElement) budget -= static_cast<int64_t>(members[e].size());
+    // gives up before reading its neighbours' lists, so that a failure costs the lengths, not the
+    // budget (the same counts succeed; papers/orderings.md, "Short lists: the second exact tier").
+    for (int u : reach_) {
+      budget -= static_cast<int64_t>(adj_[u].size());
+      for (int e : elems_[u]) {
+        if (status_[e] == kElement) budget -= static_cast<int64_t>(members_[e].size());
       }
       if (budget < 0) return -1;
     }
     int64_t twice_fill = 0;
-    for (int u : reach) {
-      ++near_stamp;
-      near[u] = near[i] = near_stamp;  // neither u nor i is a neighbour u may miss
+    for (int u : reach_) {
+      ++near_stamp_;
+      near_[u] = near_[i] = near_stamp_;  // neither u nor i is a neighbour u may miss
       int64_t adjacent = 0;
       auto see = [&](int v) {
-        if (in_reach[v] == reach_stamp && near[v] != near_stamp && status[v] == kVariable) {
-          near[v] = near_stamp;
-          adjacent += mass[v].w;
+        if (in_reach_[v] == reach_stamp_ && near_[v] != near_stamp_ && status_[v] == kVariable) {
+          near_[v] = near_stamp_;
+          adjacent += mass_[v].w;
         }
       };
-      for (int v : adj[u]) see(v);
-      for (int e : elems[u]) {
-        if (status[e] == kElement) {
-          for (int v : members[e]) see(v);
+      for (int v : adj_[u]) see(v);
+      for (int e : elems_[u]) {
+        if (status_[e] == kElement) {
+          for (int v : members_[e]) see(v);
         }
       }
-      twice_fill += mass[u].w * (total - mass[u].w - adjacent);
+      twice_fill += mass_[u].w * (total - mass_[u].w - adjacent);
     }
     return twice_fill / 2;
-  };
-  // Scores by exact_fill below this many blocks of degree bound, and this many list entries
-  // read. Measured over the test matrices and the families at 20-3000 constraints against
-  // meca-exact (geometric mean of the flop ratio; worst case in parentheses):
-  //   (degree, budget)  none           (8, 512)       (16, 1024)     (32, 4096)
-  //   meca              1.028 (1.52)   1.014 (1.59)   1.004 (1.19)   1.006 (1.22)
-  //   meca-w            1.036 (1.22)   1.006 (1.11)   1.002 (1.08)   1.000 (1.03)
-  // with bcsstk13's ordering time 4.6, 9, 6.4 and 11 ms (AMD 1.5 ms; single runs on a loaded
-  // machine, before the outside rescoring below was restricted). Without it no block is
-  // simplicial until an element covers it, and meca leaves fill on trees.
-  constexpr int64_t kExactDegree = 16, kExactBudget = 1024;
-  // Past that degree a block is still counted exactly when its lists are short: at most
-  // kShortLists entries in A_i and the L_e of E_i (their lengths; merged and eliminated ids in
-  // an L_e count too), and at most kShortBudget entries of the L_e and the neighbours' lists
-  // read. A grid's late blocks are such: dozens of blocks in a few
-  // supervariables (median 57-78 entries read per count at degrees 16-64 on grid-5000), where
-  // bcsstk13's read 570-930. Without this tier meca was 16 % above meca-exact on grid-5000
-  // (145M against 124M flops), 4.7 % on grid-3000; with it equal on every grid. A count that
-  // runs out of budget is not tried again until the block's degree bound falls below the
-  // degree it failed at (failed_at), so that a block read in vain costs once; nor is one whose
-  // lists were too long. (A heuristic: the bound may grow again, and lists shrink as elements
-  // are absorbed, so a block may stay approximate after it became cheap to count.)
-  constexpr int64_t kShortLists = 32, kShortBudget = 256;
-  std::vector<int64_t> failed_at(n, INT64_MAX);  // degree bound at the last failed count (size n)
-  auto try_exact = [&](int i) -> int64_t {
-    if (degree[i].c <= kExactDegree) return exact_fill(i, kExactBudget);
-    if (degree[i].c >= failed_at[i]) return -1;
-    int64_t lists = static_cast<int64_t>(adj[i].size());
-    for (size_t k = 0; k < elems[i].size() && lists <= kShortLists; ++k) {
-      if (status[elems[i][k]] == kElement) lists += static_cast<int64_t>(members[elems[i][k]].size());
+  }
+  // exact_fill within the two tiers' limits (kExactDegree, kShortLists), or -1.
+  int64_t try_exact(int i) {
+    if (degree_[i].c <= kExactDegree) return exact_fill(i, kExactBudget);
+    if (degree_[i].c >= failed_at_[i]) return -1;
+    int64_t lists = static_cast<int64_t>(adj_[i].size());
+    for (size_t k = 0; k < elems_[i].size() && lists <= kShortLists; ++k) {
+      if (status_[elems_[i][k]] == kElement) lists += static_cast<int64_t>(members_[elems_[i][k]].size());
     }
     const int64_t f = lists <= kShortLists ? exact_fill(i, kShortBudget) : -1;
-    if (f < 0) failed_at[i] = degree[i].c;
+    if (f < 0) failed_at_[i] = degree_[i].c;
     return f;
-  };
-  auto rescore = [&](int i) { exact[i] = opt.score == QuotientScore::fill ? try_exact(i) : -1; };
-
-  std::vector<int> touched;      // blocks outside L_p next to it, this step
-  std::vector<int> last_i(n, 0);  // stamp: counted for the current block of L_p (size n)
-  std::vector<Mass> in_lp(n);     // of a touched block: its neighbours in L_p (size n)
-  int i_stamp = 0;
-  VariableHeap<Key> heap(key);
-  auto rekey = [&](int i) {
-    key[i] = make_key(i);
-    heap.update(i);
-  };
-  for (int i = 0; i < n; ++i) {
-    rescore(i);
-    rekey(i);
   }
 
-  std::vector<int> pivots;
-  pivots.reserve(n);
-  std::vector<int> lp;                 // L_p of the current pivot
-  std::vector<int> mark(n, 0);         // stamp: in L_p, or entry of a list being compared
-  std::vector<int> seen(n, 0);         // stamp: element whose |L_e \ L_p| is being counted
-  std::vector<Mass> outside(n);        // |L_e \ L_p| for e seen this step (size n)
-  std::vector<uint64_t> hash(n);       // of A_i and E_i, for supervariable detection
-  std::vector<std::pair<uint64_t, int>> by_hash;
-  int stamp = 0;
-  while (!heap.empty()) {
-    const int p = heap.pop();
-    if (status[p] != kVariable) continue;  // merged into a supervariable
-
-    // Output p's blocks in the order the exact game would take them: all of them have the same
-    // neighbours, so the tie rule (and for mda-w the heaviest block, of least degree) decides.
-    std::vector<int>& bp = blocks[p];
+  // Output p's blocks in the order the exact game would take them: all of them have the same
+  // neighbours, so the tie rule (and for mda-w the heaviest block, of least degree) decides.
+  void output_blocks(int p, std::vector<int>& pivots) {
+    std::vector<int>& bp = blocks_[p];
     std::sort(bp.begin(), bp.end(), [&](int a, int b) {
-      if (opt.score == QuotientScore::degree && opt.weighted && pattern.block(a).size != pattern.block(b).size)
-        return pattern.block(a).size > pattern.block(b).size;
-      return opt.tie == TieBreak::highest_index ? a > b : a < b;
+      if (opt_.score == QuotientScore::degree && opt_.weighted && pattern_.block(a).size != pattern_.block(b).size)
+        return pattern_.block(a).size > pattern_.block(b).size;
+      return opt_.tie == TieBreak::highest_index ? a > b : a < b;
     });
     pivots.insert(pivots.end(), bp.begin(), bp.end());
-    live -= mass[p];
+    live_ -= mass_[p];
+  }
 
-    // L_p = (A_p u union of L_e over e in E_p) minus p; the elements of E_p are absorbed.
-    ++stamp;
-    mark[p] = stamp;
-    lp.clear();
+  // L_p = (A_p u union of L_e over e in E_p) minus p; the elements of E_p are absorbed. Marks
+  // L_p with a new stamp (lp_stamp_) and returns its mass.
+  Mass form_element(int p) {
+    ++stamp_;
+    mark_[p] = stamp_;
+    lp_.clear();
     Mass lp_mass;
     auto take = [&](int j) {
-      if (status[j] == kVariable && mark[j] != stamp) {
-        mark[j] = stamp;
-        lp.push_back(j);
-        lp_mass += mass[j];
+      if (status_[j] == kVariable && mark_[j] != stamp_) {
+        mark_[j] = stamp_;
+        lp_.push_back(j);
+        lp_mass += mass_[j];
       }
     };
-    for (int e : elems[p]) {
-      for (int j : members[e]) take(j);
-      status[e] = kAbsorbed;
-      std::vector<int>().swap(members[e]);
+    for (int e : elems_[p]) {
+      for (int j : members_[e]) take(j);
+      status_[e] = kAbsorbed;
+      std::vector<int>().swap(members_[e]);
     }
-    for (int j : adj[p]) take(j);
-    status[p] = kElement;
-    std::vector<int>().swap(adj[p]);
-    std::vector<int>().swap(elems[p]);
-    mass[p] = lp_mass;
+    for (int j : adj_[p]) take(j);
+    status_[p] = kElement;
+    std::vector<int>().swap(adj_[p]);
+    std::vector<int>().swap(elems_[p]);
+    mass_[p] = lp_mass;
+    lp_stamp_ = stamp_;
+    return lp_mass;
+  }
 
-    // |L_e \ L_p| for every element e adjacent to L_p: |L_e| minus the variables of L_p in it.
-    const int lp_stamp = stamp;
-    for (int i : lp) {
-      for (int e : elems[i]) {
-        if (status[e] != kElement) continue;
-        if (seen[e] != lp_stamp) {
-          seen[e] = lp_stamp;
-          outside[e] = mass[e];
+  // |L_e \ L_p| for every element e adjacent to L_p: |L_e| minus the variables of L_p in it.
+  void count_outside() {
+    for (int i : lp_) {
+      for (int e : elems_[i]) {
+        if (status_[e] != kElement) continue;
+        if (seen_[e] != lp_stamp_) {
+          seen_[e] = lp_stamp_;
+          outside_[e] = mass_[e];
         }
-        outside[e] -= mass[i];
+        outside_[e] -= mass_[i];
       }
     }
+  }
 
-    // Update each i in L_p: drop absorbed elements (and, aggressively, those inside L_p), add p;
-    // drop from A_i what element p now covers; bound the degree; hash the lists.
-    for (int i : lp) {
+  // Update each i in L_p: drop absorbed elements (and, aggressively, those inside L_p), add p;
+  // drop from A_i what element p now covers; bound the degree; hash the lists.
+  void update_variables(int p, const Mass& lp_mass) {
+    for (int i : lp_) {
       Mass external;
       uint64_t h = static_cast<uint64_t>(p);
       size_t k = 0;
-      for (int e : elems[i]) {
-        if (status[e] != kElement) continue;
-        if (outside[e].c == 0) {  // L_e is inside L_p: p absorbs it
-          status[e] = kAbsorbed;
-          std::vector<int>().swap(members[e]);
+      for (int e : elems_[i]) {
+        if (status_[e] != kElement) continue;
+        if (outside_[e].c == 0) {  // L_e is inside L_p: p absorbs it
+          status_[e] = kAbsorbed;
+          std::vector<int>().swap(members_[e]);
           continue;
         }
-        external += outside[e];
+        external += outside_[e];
         h += static_cast<uint64_t>(e);
-        elems[i][k++] = e;
+        elems_[i][k++] = e;
       }
-      elems[i].resize(k);
-      elems[i].push_back(p);
+      elems_[i].resize(k);
+      elems_[i].push_back(p);
       k = 0;
-      for (int j : adj[i]) {
-        if (status[j] != kVariable || mark[j] == lp_stamp) continue;
-        external += mass[j];
+      for (int j : adj_[i]) {
+        if (status_[j] != kVariable || mark_[j] == lp_stamp_) continue;
+        external += mass_[j];
         h += static_cast<uint64_t>(j);
-        adj[i][k++] = j;
+        adj_[i][k++] = j;
       }
-      adj[i].resize(k);
-      const Mass rest = lp_mass - mass[i];
-      const Mass bound = external + rest, grown = degree[i] + rest, all = live - mass[i];
-      degree[i] = {std::min({bound.c, grown.c, all.c}), std::min({bound.w, grown.w, all.w}),
-                   std::min({bound.q, grown.q, all.q})};
-      hash[i] = h;
+      adj_[i].resize(k);
+      const Mass rest = lp_mass - mass_[i];
+      const Mass bound = external + rest, grown = degree_[i] + rest, all = live_ - mass_[i];
+      degree_[i] = {std::min({bound.c, grown.c, all.c}), std::min({bound.w, grown.w, all.w}),
+                    std::min({bound.q, grown.q, all.q})};
+      hash_[i] = h;
     }
+  }
 
-    // Supervariables: variables of L_p with equal hash, then equal lists, are indistinguishable.
-    by_hash.clear();
-    for (int i : lp) by_hash.emplace_back(hash[i], i);
-    std::sort(by_hash.begin(), by_hash.end());
-    for (size_t a = 0; a < by_hash.size(); ++a) {
-      const int i = by_hash[a].second;
-      if (status[i] != kVariable) continue;
+  // Supervariables: variables of L_p with equal hash, then equal lists, are indistinguishable.
+  void merge_supervariables() {
+    by_hash_.clear();
+    for (int i : lp_) by_hash_.emplace_back(hash_[i], i);
+    std::sort(by_hash_.begin(), by_hash_.end());
+    for (size_t a = 0; a < by_hash_.size(); ++a) {
+      const int i = by_hash_[a].second;
+      if (status_[i] != kVariable) continue;
       bool marked = false;
-      for (size_t b = a + 1; b < by_hash.size() && by_hash[b].first == by_hash[a].first; ++b) {
-        const int j = by_hash[b].second;
-        if (status[j] != kVariable || adj[j].size() != adj[i].size() || elems[j].size() != elems[i].size()) continue;
+      for (size_t b = a + 1; b < by_hash_.size() && by_hash_[b].first == by_hash_[a].first; ++b) {
+        const int j = by_hash_[b].second;
+        if (status_[j] != kVariable || adj_[j].size() != adj_[i].size() || elems_[j].size() != elems_[i].size()) continue;
         if (!marked) {
-          ++stamp;
-          for (int x : adj[i]) mark[x] = stamp;
-          for (int x : elems[i]) mark[x] = stamp;
+          ++stamp_;
+          for (int x : adj_[i]) mark_[x] = stamp_;
+          for (int x : elems_[i]) mark_[x] = stamp_;
           marked = true;
         }
         bool same = true;
-        for (int x : adj[j]) same = same && mark[x] == stamp;
-        for (int x : elems[j]) same = same && mark[x] == stamp;
-        if (!same) continue;
-        // j joins i: i's external degree no longer counts j.
-        degree[i] -= mass[j];
-        mass[i] += mass[j];
-        // The tie rule reads the block the exact game would take first: any of i's for a degree
-        // that all its blocks share, but for mda-w's weighted degree (the rest of the
-        // supervariable counts, the block itself does not) one of its heaviest blocks.
-        const bool by_weight = opt.score == QuotientScore::degree && opt.weighted && heaviest[i] != heaviest[j];
-        if (by_weight) {
-          if (heaviest[j] > heaviest[i]) tie_index[i] = tie_index[j];
-        } else {
-          tie_index[i] = opt.tie == TieBreak::highest_index ? std::max(tie_index[i], tie_index[j])
-                                                           : std::min(tie_index[i], tie_index[j]);
-        }
-        heaviest[i] = std::max(heaviest[i], heaviest[j]);
-        blocks[i].insert(blocks[i].end(), blocks[j].begin(), blocks[j].end());
-        std::vector<int>().swap(blocks[j]);
-        std::vector<int>().swap(adj[j]);
-        std::vector<int>().swap(elems[j]);
-        status[j] = kMerged;  // (left in the heap: popped and skipped, cheaper than taken out)
+        for (int x : adj_[j]) same = same && mark_[x] == stamp_;
+        for (int x : elems_[j]) same = same && mark_[x] == stamp_;
+        if (same) merge(i, j);
       }
     }
-
-    // Element p keeps its live variables; new keys for them.
-    size_t k = 0;
-    for (int i : lp) {
-      if (status[i] == kVariable) lp[k++] = i;
+  }
+  // j joins i: i's external degree no longer counts j.
+  void merge(int i, int j) {
+    degree_[i] -= mass_[j];
+    mass_[i] += mass_[j];
+    // The tie rule reads the block the exact game would take first: any of i's for a degree
+    // that all its blocks share, but for mda-w's weighted degree (the rest of the
+    // supervariable counts, the block itself does not) one of its heaviest blocks.
+    const bool by_weight = opt_.score == QuotientScore::degree && opt_.weighted && heaviest_[i] != heaviest_[j];
+    if (by_weight) {
+      if (heaviest_[j] > heaviest_[i]) tie_index_[i] = tie_index_[j];
+    } else {
+      tie_index_[i] = opt_.tie == TieBreak::highest_index ? std::max(tie_index_[i], tie_index_[j])
+                                                          : std::min(tie_index_[i], tie_index_[j]);
     }
-    lp.resize(k);
-    members[p] = lp;
+    heaviest_[i] = std::max(heaviest_[i], heaviest_[j]);
+    blocks_[i].insert(blocks_[i].end(), blocks_[j].begin(), blocks_[j].end());
+    std::vector<int>().swap(blocks_[j]);
+    std::vector<int>().swap(adj_[j]);
+    std::vector<int>().swap(elems_[j]);
+    status_[j] = kMerged;  // (left in the heap: popped and skipped, cheaper than taken out)
+  }
+
+  // Element p keeps its live variables; new keys for them (for meca, a new cover: the largest
+  // element among E_i), and the step in the trace.
+  void rekey_element(int p, std::vector<QuotientStep>* trace) {
+    size_t k = 0;
+    for (int i : lp_) {
+      if (status_[i] == kVariable) lp_[k++] = i;
+    }
+    lp_.resize(k);
+    members_[p] = lp_;
     QuotientStep* step = nullptr;
     if (trace) {
-      trace->push_back({bp, {}});
+      trace->push_back({blocks_[p], {}});
       step = &trace->back();
     }
-    for (int i : lp) {
-      if (opt.score == QuotientScore::fill) {
+    for (int i : lp_) {
+      if (opt_.score == QuotientScore::fill) {
         Mass best;
-        for (int e : elems[i]) {
-          const Mass m = mass[e] - mass[i];
+        for (int e : elems_[i]) {
+          const Mass m = mass_[e] - mass_[i];
           if (m.pairs() > best.pairs()) best = m;
         }
-        cover[i] = best;
+        cover_[i] = best;
         rescore(i);
       }
       rekey(i);
       if (step) {
-        for (int b : blocks[i]) step->degrees.emplace_back(b, degree[i].c + mass[i].c - 1);
+        for (int b : blocks_[i]) step->degrees.emplace_back(b, degree_[i].c + mass_[i].c - 1);
       }
     }
-    // Blocks outside L_p next to two or more of it may have lost fill (the new edges of L_p's
-    // clique join some of their neighbours): rescore those that the exact count can afford,
-    // reached by original edges and small elements, as the exact game lowers them.
-    // A pivot known to be simplicial (exact fill 0) created no edge, and a block next to only
-    // one block of L_p gained no edge among its neighbours: both are skipped.
-    // For meca, a block too large to count keeps its approximate score, but its neighbours in
-    // L_p are now a clique: where they outweigh its cover (the largest element), they become it.
-    // Blocks of the test matrices and families whose order this changes: bcsstk13, meca 72.4M ->
-    // 56.3M flops (meca-exact 60.7M), and dwt_992, 1.036M -> 1.031M; no other. For meca-w it
-    // was measured and not kept: bcsstk13 50.9M -> 51.6M (meca-w-exact 47.3M).
-    if (opt.score == QuotientScore::fill && exact[p] != 0) {
-      ++stamp;
-      for (int i : lp) mark[i] = stamp;
-      mark[p] = stamp;
-      touched.clear();
-      for (int i : lp) {
-        ++i_stamp;
-        auto visit = [&](int x) {
-          if (status[x] != kVariable || mark[x] == stamp || last_i[x] == i_stamp) return;
-          last_i[x] = i_stamp;
-          if (seen[x] != stamp) {  // (seen[] is free for variables)
-            seen[x] = stamp;
-            in_lp[x] = Mass{};
-            touched.push_back(x);
-          }
-          in_lp[x] += mass[i];
-        };
-        for (int x : adj[i]) visit(x);
-        for (int e : elems[i]) {
-          if (e != p && static_cast<int64_t>(members[e].size()) <= kExactDegree) {
-            for (int x : members[e]) visit(x);
-          }
-        }
-      }
-      for (int x : touched) {
-        if (in_lp[x].c < 2) continue;
-        const int64_t f = try_exact(x);
-        if (f >= 0 && f != exact[x]) {
-          exact[x] = f;
-          rekey(x);
-        }
-        if (f < 0 && !opt.weighted && exact[x] < 0 && in_lp[x].pairs() > cover[x].pairs()) {
-          cover[x] = in_lp[x];
-          rekey(x);
-        }
-      }
-    }
-    std::vector<int>().swap(bp);
   }
-  assert(static_cast<int>(pivots.size()) == n);
-  return pivots;
+
+  // Blocks outside L_p next to two or more of it may have lost fill (the new edges of L_p's
+  // clique join some of their neighbours): rescore those that the exact count can afford,
+  // reached by original edges and small elements, as the exact game lowers them. Called only
+  // for meca and meca-w, and only when p was not known to be simplicial (exact fill 0: it
+  // created no edge); a block next to only one block of L_p gained no edge among its
+  // neighbours and is skipped.
+  // For meca, a block too large to count keeps its approximate score, but its neighbours in
+  // L_p are now a clique: where they outweigh its cover (the largest element), they become it
+  // (not for meca-w, where it measured worse: papers/orderings.md, "MDA and MECA on a quotient
+  // graph").
+  void rescore_outside(int p) {
+    ++stamp_;
+    for (int i : lp_) mark_[i] = stamp_;
+    mark_[p] = stamp_;
+    touched_.clear();
+    for (int i : lp_) {
+      ++i_stamp_;
+      auto visit = [&](int x) {
+        if (status_[x] != kVariable || mark_[x] == stamp_ || last_i_[x] == i_stamp_) return;
+        last_i_[x] = i_stamp_;
+        if (seen_[x] != stamp_) {  // (seen_[] is free for variables)
+          seen_[x] = stamp_;
+          in_lp_[x] = Mass{};
+          touched_.push_back(x);
+        }
+        in_lp_[x] += mass_[i];
+      };
+      for (int x : adj_[i]) visit(x);
+      for (int e : elems_[i]) {
+        if (e != p && static_cast<int64_t>(members_[e].size()) <= kExactDegree) {
+          for (int x : members_[e]) visit(x);
+        }
+      }
+    }
+    for (int x : touched_) {
+      if (in_lp_[x].c < 2) continue;
+      const int64_t f = try_exact(x);
+      if (f >= 0 && f != exact_[x]) {
+        exact_[x] = f;
+        rekey(x);
+      }
+      if (f < 0 && !opt_.weighted && exact_[x] < 0 && in_lp_[x].pairs() > cover_[x].pairs()) {
+        cover_[x] = in_lp_[x];
+        rekey(x);
+      }
+    }
+  }
+
+  const BlockPattern& pattern_;
+  const QuotientOptions opt_;
+  const int n_;
+  std::vector<uint8_t> status_;             // what id i is now (size n)
+  std::vector<std::vector<int>> adj_;       // A_i: variables, original edges (size n)
+  std::vector<std::vector<int>> elems_;     // E_i: elements of variable i (size n)
+  std::vector<std::vector<int>> members_;   // L_e: variables of element e (size n)
+  std::vector<Mass> mass_;                  // variable: its blocks; element: live L_e (size n)
+  std::vector<Mass> degree_;                // d_i, the external degree bound (size n)
+  std::vector<int64_t> heaviest_;           // largest block weight in supervariable i (size n)
+  std::vector<int> tie_index_;              // the block index the tie rule reads (size n)
+  std::vector<std::vector<int>> blocks_;    // blocks merged into supervariable i (size n)
+  Mass live_;                               // mass of all variables not yet eliminated
+  std::vector<Key> key_;                    // (size n)
+  std::vector<int64_t> exact_;              // exact fill of i when known, else -1 (size n)
+  std::vector<Mass> cover_;                 // the largest element mass among E_i, minus i's own (size n)
+  std::vector<int> in_reach_, near_;        // exact_fill's stamps (size n)
+  int reach_stamp_ = 0, near_stamp_ = 0;
+  std::vector<int> reach_;                  // exact_fill: the neighbours of i
+  std::vector<int64_t> failed_at_;          // degree bound at the last failed count (size n)
+  std::vector<int> touched_;                // blocks outside L_p next to it, this step
+  std::vector<int> last_i_;                 // stamp: counted for the current block of L_p (size n)
+  std::vector<Mass> in_lp_;                 // of a touched block: its neighbours in L_p (size n)
+  int i_stamp_ = 0;
+  VariableHeap<Key> heap_;                  // after key_, which it reads
+  std::vector<int> lp_;                     // L_p of the current pivot
+  std::vector<int> mark_;                   // stamp: in L_p, or entry of a list being compared (size n)
+  std::vector<int> seen_;                   // stamp: element whose |L_e \ L_p| is being counted (size n)
+  std::vector<Mass> outside_;               // |L_e \ L_p| for e seen this step (size n)
+  std::vector<uint64_t> hash_;              // of A_i and E_i, for supervariable detection (size n)
+  std::vector<std::pair<uint64_t, int>> by_hash_;
+  int stamp_ = 0, lp_stamp_ = 0;
+};
+
+}  // namespace
+
+std::vector<int> quotient_order(const BlockPattern& pattern, const QuotientOptions& opt,
+                                std::vector<QuotientStep>* trace) {
+  return QuotientGame(pattern, opt).run(trace);
 }
 
 }  // namespace ldlpgs

@@ -45,8 +45,8 @@ BlockPattern BlockPattern::from_scalar(const SymmetricCsc& a, std::span<const in
     for (int k = 0; k < block_sizes[b]; ++k) block_of[r++] = b;
   // One edge per coupling block, not per scalar entry: a lower-triangle entry (i, j) has
   // block_of[i] >= block_of[j], so block column bj sees each of its blocks bi, and only it does;
-  // seen[bi] == bj marks bi as listed. Dense 3 x 3 couplings gave graph_from_edges 9 copies of
-  // each edge (4.5M arcs for 500k edges on the 1000-arm star, issue 15).
+  // seen[bi] == bj marks bi as listed. One edge per scalar entry gave graph_from_edges 9 copies
+  // of each edge of dense 3 x 3 couplings (papers/factor.md, "Supernodes: before and after").
   std::vector<int> seen(nb, -1);  // (size blocks)
   std::vector<std::pair<int, int>> edges;
   for (int bj = 0, j = 0; bj < nb; ++bj) {

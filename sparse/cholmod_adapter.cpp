@@ -22,8 +22,8 @@ cholmod_sparse cholmod_view(const SymmetricCsc& a) {
   s.nzmax = static_cast<size_t>(a.nnz());
   // CHOLMOD's struct has no const members; it only reads through these when given as input.
   // A matrix without stored entries has empty vectors, whose data() may be null, and CHOLMOD
-  // refuses a null i or x as an invalid xtype (status -4: verify, bench and order --cholmod
-  // aborted on a 0 x 0 or all-empty matrix, issue 14): point them at a never-read dummy.
+  // refuses a null i or x as an invalid xtype (status -4, on a 0 x 0 or all-empty matrix):
+  // point them at a never-read dummy.
   static int no_index = 0;
   static double no_value = 0;
   s.p = const_cast<int*>(a.col_ptr.empty() ? &no_index : a.col_ptr.data());

@@ -51,10 +51,9 @@ SymmetricCsc csc_from_triplets(int n, std::span<const Triplet> entries) {
   a.n = n;
   // Two stable counting sorts, by row and then by column (the transpose-twice of CSparse's
   // cs_compress/cs_transpose): each column's entries come out in row order and duplicates in
-  // input order, in O(n + entries) with no comparison sort. The comparison sort of each column it
-  // replaces was 11% of `ldlpgs spy` on the 1000-arm star, whose H has 4.5M entries (issue 15).
-  // by_row[] is the permutation of the entries by row (size entries); row_ptr and count are the
-  // row and column starts (size n + 1; size_t: n may be INT_MAX, issue 14).
+  // input order, in O(n + entries) with no comparison sort (papers/factor.md, "Supernodes: before
+  // and after", the 1000-arm star). by_row[] is the permutation of the entries by row (size
+  // entries); row_ptr and count are the row and column starts (size n + 1; size_t: n may be INT_MAX).
   std::vector<int> row_ptr(static_cast<size_t>(n) + 1, 0), count(static_cast<size_t>(n) + 1, 0);
   for (const Triplet& t : entries) {
     if (t.row < 0 || t.row >= n || t.col < 0 || t.col >= n)
@@ -105,8 +104,8 @@ Graph graph_from_edges(int n, std::span<const std::pair<int, int>> edges) {
     ++g.ptr[v + 1];
   }
   for (int v = 0; v < n; ++v) g.ptr[v + 1] += g.ptr[v];
-  // Each list in ascending order without a comparison sort (it was 7% of `ldlpgs spy` on the
-  // 1000-arm star, 4.5M edges): the arcs s -> w are bucketed by w (bucket w holds the s), then
+  // Each list in ascending order without a comparison sort (papers/factor.md, "Supernodes:
+  // before and after", the 1000-arm star): the arcs s -> w are bucketed by w (bucket w holds the s), then
   // the buckets are walked in ascending w and w appended to each s's list. Duplicates end up
   // adjacent and are dropped while compacting.
   std::vector<int> by_target(g.ptr[n]), adj(g.ptr[n]);  // (size 2 edges)

@@ -69,6 +69,7 @@ class Builder {
 
 std::span<const std::string_view> family_names() { return kFamilies; }
 
+// Long (one branch of a few lines per family): the families side by side read as their catalogue.
 BodyGraph make_family(std::string_view family, int m, uint32_t seed) {
   if (m < 1) throw InputError("mechanism family '" + std::string(family) + "': needs at least 1 constraint");
   check_limit("mechanism family '" + std::string(family) + "'", m, size_limits().constraints, "constraints");

@@ -1,9 +1,9 @@
 #pragma once
-// Caps on the sizes an input may declare, checked before anything is allocated for them: a
-// 74-byte Matrix Market file declaring 30M rows took 1.6 GB and 15 s, and `verify chain:2000000000`
-// ended in bad_alloc (issue 14). The defaults are far above the matrices and mechanisms this
-// library is measured on (tests/data/matrices: 2003 rows at most; issue 15's 1e6-row target
-// fits) and far below what exhausts a 24 GB machine. Process-wide; the program's global flag
+// Caps on the sizes an input may declare, checked before anything is allocated for them: a file
+// of a few bytes may declare millions of rows, and a family size may exceed memory
+// (papers/factor.md, "Verification"). The defaults are far above the matrices and mechanisms this
+// library is measured on (tests/data/matrices: 2003 rows at most; mechanisms of 1e6 rows fit)
+// and far below what exhausts a 24 GB machine. Process-wide; the program's global flag
 // `--no-size-limits` lifts them, a library user sets size_limits() itself.
 #include <cstdint>
 #include <limits>

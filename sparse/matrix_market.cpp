@@ -259,6 +259,7 @@ void check_symmetric(const std::string& path, const std::vector<Entry>& entries,
 
 }  // namespace
 
+// Long: the file in reading order (banner, size line, entries), each check failing at its own line.
 SymmetricCsc read_matrix_market(const std::string& file) {
   LineReader lines(file);
   const std::string& path = lines.name();  // (through printable(): messages stay one line)
