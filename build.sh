@@ -25,8 +25,7 @@ packages=(cmake g++ make libsuitesparse-dev libmetis-dev libeigen3-dev libgtest-
 # (libqhull-dev: Debian's mujocoConfig.cmake names /usr/include/libqhull_r/ and fails without it)
 # (libopenblas0-serial: an optimized BLAS/LAPACK, one thread, registered as the libblas.so.3 and
 # liblapack.so.3 alternative above the reference libblas3 that libsuitesparse-dev pulls in, so
-# that CHOLMOD supernodal is timed as on a user's machine: issue 13 measured it on bcsstk13 2.3x
-# slower than ours with the reference BLAS, 1.3x faster with OpenBLAS (papers/factor.md has ours);
+# that CHOLMOD supernodal is timed as on a user's machine (papers/factor.md, "BLAS: CHOLMOD supernodal with the reference BLAS and with OpenBLAS");
 # `ldlpgs bench` prints the BLAS in use)
 
 install_missing() {

@@ -2,7 +2,7 @@
 // side with the competitor direct solvers (peers/competitors.h: CHOLMOD simplicial and
 // supernodal, Eigen's SimplicialLDLT and, for n <= 1000, Eigen's dense LDLT), on the generated
 // mechanisms (H = J W J^T, every family of ldlpgs::family_names() at 22, 63, 253, 1265 and
-// 3000 constraints: about 88 .. 11400 rows; issue 13 asks for 20-60 and 300-3000) and on the
+// 3000 constraints: about 88 .. 11400 rows, the talk's sizes and beyond) and on the
 // test matrices (tests/data/matrices, Pd.mtx left out: it is unsymmetric; blocks as --blocks
 // auto). `ldlpgs bench` measures one problem the same way.
 //

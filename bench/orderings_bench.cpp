@@ -158,7 +158,7 @@ void register_families() {
   }
 }
 
-// The scale targets of issue 15: a grid and a ladder of 1e5 constraints (quotient-graph
+// The scale targets (papers/orderings.md): a grid and a ladder of 1e5 constraints (quotient-graph
 // orderings under 2 s), and a star whose hub carries 1000 arms, as its block graph: a
 // 1000-clique of 3-row blocks (under 1 s; every elimination in it costs the explicit graph
 // O(degree^2), so the -exact orderings are kept for comparison).

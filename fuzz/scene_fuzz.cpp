@@ -19,7 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {
     m = load_scene(path);
   } catch (const InputError& e) {
-    // The message is one bounded line of printable characters (issue 14, class 8): a few
+    // The message is one bounded line of printable characters: a few
     // hundred characters, each quote of the input bounded.
     const size_t length = std::strlen(e.what());
     if (length > 1000) fuzz::finding("a message of " + std::to_string(length) + " characters: " + e.what());

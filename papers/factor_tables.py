@@ -19,7 +19,7 @@ LDLPGS = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "bin"
 MATRICES = os.path.join(ROOT, "tests", "data", "matrices")
 FAMILIES = ["chain", "tree", "ladder", "loop", "heavy", "grid", "star"]
 # Constraints giving dim(H) about 90, 250, 1000, 4800 and 11300 (3.8-4 rows per constraint):
-# issue 13 asks for the talk's sizes (20-60 constraints) and 300-3000.
+# the talk's sizes (20-60 constraints) and 300-3000.
 SIZES = [22, 63, 253, 1265, 3000]
 # Debian's reference BLAS and LAPACK (libblas3, liblapack3): first on the library path, they
 # replace the libblas.so.3 and liblapack.so.3 alternatives (OpenBLAS once build.sh installed it).

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Block partitions that see inside blocks (issue 15): the whole-constraint partition against
+"""Block partitions that see inside blocks: the whole-constraint partition against
 the refined one (`--split-blocks`: exact zeros dropped, each constraint cut into runs of rows with
 identical patterns, sparse/partition.h partition_refine), against scalar AMD and METIS on the same
 nonzero pattern; then factor time (ldlpgs bench) of both partitions against CHOLMOD.

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The quotient-graph orderings (mda, mda-w, meca, meca-w) against their explicit-graph
-references (the -exact forms), issue 15: the ratio of scalar flops and nnz(L), per problem, on
+references (the -exact forms): the ratio of scalar flops and nnz(L), per problem, on
 the test matrices (blocks auto, Pd.mtx left out), the families at 20, 40, 60, 300, 1000 and
 3000 constraints and the grid at 5000 and 8000 (where meca's approximate score had been 16 %
 off); prints, per ordering, the geometric mean of the flop ratio, the worst case

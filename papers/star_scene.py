@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The scale scene of papers/factor.md (issues 14 and 15): a hub carrying N arms on ball joints.
+"""The scale scene of papers/factor.md: a hub carrying N arms on ball joints.
 
 Usage: python3 papers/star_scene.py N OUT.json
 

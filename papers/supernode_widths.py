@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""How much of each factorization a supernodal path could take (issue 13): the fundamental
+"""How much of each factorization a supernodal path could take: the fundamental
 supernodes of our factor's scalar L, in CHOLMOD's sense (columns j and j+1 share one when j+1 is
 j's parent and only child in the elimination tree and struct(j) = {j+1} U struct(j+1)), and the
 share of the factorization's flops (sum of squared column counts) in supernodes at least 16 and

@@ -1,5 +1,5 @@
 #pragma once
-// Peer engines (issue 6, "Peers, same scenes, same run"): the same mechanism built in ODE, Bullet
+// Peer engines ("peers, same scenes, same run"): the same mechanism built in ODE, Bullet
 // and MuJoCo, and stepped with each of our solvers, the scene's gravity and timestep, and the
 // bodies' shapes (physics/shape.h) as each engine's collision geometry with our pair rules; for
 // each, the median wall time of one whole step (collision detection included), the largest joint
