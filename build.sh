@@ -93,7 +93,7 @@ case "$cmd" in
     ctest --test-dir "${BUILD_DIR:-build}" --output-on-failure -j "${JOBS:-$(nproc)}" "$@"
     ;;
   report)
-    # the report's plots and index.html: Debian's matplotlib and markdown (papers/*.py)
+    # the report's plots and index.html: Debian's matplotlib and markdown (papers/scripts/*.py)
     install_missing python3 python3-matplotlib python3-markdown
     build
     "${BUILD_DIR:-build}/bin/ldlpgs" report "$@"

@@ -2,7 +2,7 @@
 // test matrices, in five stages:
 //   1. the orderings comparison (papers/orderings.md),
 //   2. the block LDL^T of every problem verified against CHOLMOD's (factor/verify.h),
-//   3. the talk's table and spy plots (papers/talk_figures.py, papers/talk-figures.md),
+//   3. the talk's table and spy plots (papers/scripts/talk_figures.py, papers/talk-figures.md),
 //   4. speed against error of the solvers on the hard cases, and where each breaks
 //      (apps/sweep.h, papers/speed-vs-error.md),
 //   5. the figures (matplotlib) and index.html (python3-markdown).
@@ -71,7 +71,7 @@ const ReportFiles& report_files() {
     const fs::path share = fs::read_symlink("/proc/self/exe", ec).parent_path().parent_path() / "share" / "ldlpgs";
     if (!ec && fs::exists(share / "scripts" / "talk_figures.py", ec))
       return ReportFiles{(share / "scripts").string(), (share / "matrices").string(), ""};
-    return ReportFiles{LDLPGS_SOURCE_DIR "/papers", LDLPGS_SOURCE_DIR "/tests/data/matrices", LDLPGS_SOURCE_DIR};
+    return ReportFiles{LDLPGS_SOURCE_DIR "/papers/scripts", LDLPGS_SOURCE_DIR "/tests/data/matrices", LDLPGS_SOURCE_DIR};
   }();
   return files;
 }
@@ -410,7 +410,7 @@ class Report {
     print_verification_table(md_, checks_, true);
   }
 
-  // 3. The talk's table (papers/talk_figures.py runs spy, export, bench and step of this program).
+  // 3. The talk's table (papers/scripts/talk_figures.py runs spy, export, bench and step of this program).
   void talk_figures() {
     python_ = o_.no_figures ? "" : find_python();
     if (python_.empty() && !o_.no_figures)
@@ -426,14 +426,14 @@ class Report {
     const std::string self = fs::read_symlink("/proc/self/exe").string(), table = out_dir_ + "/talk-table.md";
     if (!run_script(python_, "talk_figures.py", shell_quoted(self) + " --figures " + shell_quoted(figures_), table)) {
       ok_ = false;
-      std::fprintf(md_, "Failed: papers/talk_figures.py (its message is on standard error).\n");
+      std::fprintf(md_, "Failed: papers/scripts/talk_figures.py (its message is on standard error).\n");
       return;
     }
     const std::string text = read_file(table);
     for (size_t at = text.find("\n|"); at != std::string::npos; at = text.find("\n|", at + 1)) ++talk_rows_;
     talk_rows_ = std::max(0, talk_rows_ - 1);  // the header's rule line
     std::fprintf(md_, "Per mechanism, the talk's figure / ours (papers/talk-figures.md says how each is measured "
-                 "and why they differ); made by `python3 papers/talk_figures.py build/bin/ldlpgs --figures "
+                 "and why they differ); made by `python3 papers/scripts/talk_figures.py build/bin/ldlpgs --figures "
                  "%s/figures`.\n\n%s\n",
                  o_.out.c_str(), read_file(table).c_str());
     std::fprintf(stdout, "\nThe talk's figures / ours:\n%s", read_file(table).c_str());

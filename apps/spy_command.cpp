@@ -1,7 +1,7 @@
 // ldlpgs spy SCENE --json-file FILE.json (--json: to standard output): the block structure of H_0 (the equality constraints' matrix
 // at the initial pose) and of its block L, fill blocks marked, in pivot order, after body
 // shattering (physics/shatter.h) unless --no-shatter: the data of the talk's pictures of H and L
-// (papers/plot_spy.py draws them, papers/talk_figures.py tabulates them). --scene-file writes the
+// (papers/scripts/plot_spy.py draws them, papers/scripts/talk_figures.py tabulates them). --scene-file writes the
 // mechanism it spied, shattered or not, for `ldlpgs export` and `ldlpgs bench`.
 //
 // The file, one JSON object: scene, shattered (a body was split), shatter_threshold (null with
@@ -123,7 +123,7 @@ Command add_spy_command(CLI::App& app) {
   auto a = std::make_shared<SpyArgs>();
   CLI::App* cmd = app.add_subcommand("spy", "Write the block structure of a scene's H and of its L (fill marked) as JSON");
   cmd->add_option("scene", a->scene, "Scene file (JSON) or built-in scene name")->required();
-  cmd->add_option("--json-file", a->out, "JSON file to write (papers/plot_spy.py draws it)");
+  cmd->add_option("--json-file", a->out, "JSON file to write (papers/scripts/plot_spy.py draws it)");
   add_alias(cmd, "--out", &a->out);
   add_json_flag(cmd, &a->json);
   add_ordering_option(cmd, &a->ordering, "Ordering of H's blocks");

@@ -1,5 +1,5 @@
 // ldlpgs sweep: speed against error on the hard cases (apps/sweep.h), as Markdown tables and,
-// with --json or --json-file FILE, the points papers/plot_speed_vs_error.py draws.
+// with --json or --json-file FILE, the points papers/scripts/plot_speed_vs_error.py draws.
 #include <fstream>
 #include <limits>
 
@@ -31,7 +31,7 @@ Command add_sweep_command(CLI::App& app) {
   cmd->add_option("--json", o->json, "Print one JSON object on standard output instead of the tables")
       ->expected(0, 1)
       ->type_name("");
-  cmd->add_option("--json-file", o->json_file, "Write the points papers/plot_speed_vs_error.py draws to this file");
+  cmd->add_option("--json-file", o->json_file, "Write the points papers/scripts/plot_speed_vs_error.py draws to this file");
   return [o] {
     if (!o->json.empty() && o->json != "-") throw InputError("sweep: --json " + o->json + " is now --json-file " + o->json);
     const bool json = o->json.empty();

@@ -25,9 +25,9 @@ if(TARGET ldlpgs)
   install(TARGETS ldlpgs RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
   # What `ldlpgs report` runs and reads, found beside the installed program
   # (apps/report_command.cpp, report_files): its scripts and the default test matrices.
-  install(FILES ${PROJECT_SOURCE_DIR}/papers/talk_figures.py ${PROJECT_SOURCE_DIR}/papers/plot_spy.py
-                ${PROJECT_SOURCE_DIR}/papers/run_ldlpgs.py ${PROJECT_SOURCE_DIR}/papers/debian_python.py
-                ${PROJECT_SOURCE_DIR}/papers/plot_speed_vs_error.py ${PROJECT_SOURCE_DIR}/papers/render_html.py
+  install(FILES ${PROJECT_SOURCE_DIR}/papers/scripts/talk_figures.py ${PROJECT_SOURCE_DIR}/papers/scripts/plot_spy.py
+                ${PROJECT_SOURCE_DIR}/papers/scripts/run_ldlpgs.py ${PROJECT_SOURCE_DIR}/papers/scripts/debian_python.py
+                ${PROJECT_SOURCE_DIR}/papers/scripts/plot_speed_vs_error.py ${PROJECT_SOURCE_DIR}/papers/scripts/render_html.py
           DESTINATION ${CMAKE_INSTALL_DATADIR}/ldlpgs/scripts)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/tests/data/matrices/ DESTINATION ${CMAKE_INSTALL_DATADIR}/ldlpgs/matrices
           FILES_MATCHING PATTERN "*.mtx")

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Speed against error, one plot per case (papers/speed-vs-error.md), from `ldlpgs sweep --json`.
 
-Usage: python3 papers/plot_speed_vs_error.py SWEEP.json OUTDIR
+Usage: python3 papers/scripts/plot_speed_vs_error.py SWEEP.json OUTDIR
 Writes OUTDIR/speed-vs-error-CASE.png for each case of SWEEP.json and lists them on stderr.
 
 Log-log: x = median solve time per step (us), y = largest position error over the constraints

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The tables of papers/factor.md, from `ldlpgs verify --json` and `ldlpgs bench --json`.
 
-Usage: python3 papers/factor_tables.py [build/bin/ldlpgs]   (prints Markdown to stdout)
+Usage: python3 papers/scripts/factor_tables.py [build/bin/ldlpgs]   (prints Markdown to stdout)
 Run it on an idle machine: the timings are medians, but two cores shared with a build are not.
 Each table is preceded by what its numbers depend on: the commit, the BLAS that CHOLMOD
 supernodal called (`ldlpgs bench`'s `blas`) and the load average before and after it.
@@ -14,7 +14,7 @@ import os
 import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 LDLPGS = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "bin", "ldlpgs")
 MATRICES = os.path.join(ROOT, "tests", "data", "matrices")
 FAMILIES = ["chain", "tree", "ladder", "loop", "heavy", "grid", "star"]

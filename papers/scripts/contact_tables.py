@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The contact tables of papers/physics.md, from `ldlpgs step --json` on the scenes with contacts.
 
-Usage: python3 papers/contact_tables.py [build/bin/ldlpgs] [TABLE]   (prints Markdown to stdout)
+Usage: python3 papers/scripts/contact_tables.py [build/bin/ldlpgs] [TABLE]   (prints Markdown to stdout)
 TABLE: solvers (default: every table), orderings or noshapes. Timings are medians per step on
 this machine; run it on an idle machine.
 """
@@ -10,7 +10,7 @@ import os
 import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 LDLPGS = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "bin", "ldlpgs")
 TABLE = sys.argv[2] if len(sys.argv) > 2 else "all"
 HUMANOID = "/usr/share/mujoco/model/humanoid/humanoid.xml"

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The certificate table of papers/orderings.md ("The best order, with a certificate").
 
-Usage: python3 papers/certificate_table.py [LDLPGS] [TIME_LIMIT_S]
+Usage: python3 papers/scripts/certificate_table.py [LDLPGS] [TIME_LIMIT_S]
 
 For each problem: `ldlpgs order PROBLEM --ordering best,meca --certify --certify-time-limit-s T
 --json` (a scene first through `ldlpgs export SCENE [ARGS]`, which shatters as `step` does), and
@@ -15,7 +15,7 @@ import tempfile
 
 import run_ldlpgs
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 LDLPGS = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "bin", "ldlpgs")
 LIMIT = sys.argv[2] if len(sys.argv) > 2 else "30"
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The tables of papers/physics.md, from `ldlpgs step --json` on the built-in scenes.
 
-Usage: python3 papers/physics_tables.py [build/bin/ldlpgs]   (prints Markdown to stdout)
+Usage: python3 papers/scripts/physics_tables.py [build/bin/ldlpgs]   (prints Markdown to stdout)
 Timings are medians per step on this machine; run it on an idle machine.
 """
 import json
@@ -11,7 +11,7 @@ import subprocess
 import sys
 import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 LDLPGS = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "bin", "ldlpgs")
 SCENES = ["pendulum", "chain-10", "heavy-chain-10-1000", "heavy-chain-10-1e6", "ragdoll", "four-bar",
           "rope-bridge", "tracked-vehicle", "multi-wheeled-vehicle"]

@@ -2,11 +2,11 @@
 """The talk's figures beside ours (papers/talk-figures.md): per mechanism, constraints, dim(H),
 density of H, flops of the block LDL^T and its time, and the spy plots of H and L.
 
-Usage: python3 papers/talk_figures.py [build/bin/ldlpgs] [--figures DIR]   (prints Markdown to stdout)
+Usage: python3 papers/scripts/talk_figures.py [build/bin/ldlpgs] [--figures DIR]   (prints Markdown to stdout)
 DIR (default papers/figures) receives the spy files and plots; `ldlpgs report` gives its own.
 
 For each row: `ldlpgs spy SCENE ARGS --json-file papers/figures/NAME.json --scene-file S.json` gives
-the counts and the data of the plot (papers/plot_spy.py draws papers/figures/NAME.png), then
+the counts and the data of the plot (papers/scripts/plot_spy.py draws papers/figures/NAME.png), then
 `ldlpgs export S.json` and `ldlpgs bench M.mtx --blocks B --json` time the numeric factorization
 of that H_0 (field factor_us, a median) and one solve, and `ldlpgs step S.json --solver
 direct --steps 1000 --json` the whole equality solve of a step (field solve_us: J, W,
@@ -22,7 +22,7 @@ import tempfile
 import plot_spy
 import run_ldlpgs
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 FIGURES = os.path.join(ROOT, "papers", "figures")
 LDLPGS = os.path.join(ROOT, "build", "bin", "ldlpgs")
 

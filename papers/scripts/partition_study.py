@@ -13,7 +13,7 @@ at 20, 40, 60 and 300 constraints. Three rows of numbers per problem:
   split   the same matrix with --split-blocks
 amd-scalar and metis-scalar are counted on the nonzero pattern.
 
-Usage: python3 papers/partition_study.py [build/bin/ldlpgs]   (about a minute on 2 cores)
+Usage: python3 papers/scripts/partition_study.py [build/bin/ldlpgs]   (about a minute on 2 cores)
 """
 import json
 import os
@@ -23,7 +23,7 @@ import tempfile
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from run_ldlpgs import run  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BIN = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build/bin/ldlpgs")
 SCENES = ["tracked-vehicle", "multi-wheeled-vehicle", "mechanism-50"]
 FAMILIES = ["chain", "tree", "ladder", "loop", "heavy", "grid", "star"]

@@ -5,7 +5,7 @@ j's parent and only child in the elimination tree and struct(j) = {j+1} U struct
 share of the factorization's flops (sum of squared column counts) in supernodes at least 16 and
 64 columns wide, where dense BLAS-3 kernels pay (papers/factor.md).
 
-Usage: PYTHONPATH=build/python python3 papers/supernode_widths.py [build/bin/ldlpgs]
+Usage: PYTHONPATH=build/python python3 papers/scripts/supernode_widths.py [build/bin/ldlpgs]
 (the Python module of build.sh's build; prints a Markdown table; about 2 s). Scenes are exported
 with `ldlpgs export` (shattered as by default, and --no-shatter), factored with ordering meca and
 their exported blocks; test matrices with blocks auto.
@@ -20,7 +20,7 @@ import scipy.sparse as sp
 
 import ldlpgs
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 LDLPGS = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "bin", "ldlpgs")
 SCENES = ["tracked-vehicle", "multi-wheeled-vehicle", "mechanism-50", "ragdoll"]
 MATRICES = ["bcsstk13.mtx", "bcsstk02.mtx", "dwt_992.mtx", "jagmesh7.mtx", "bcsstk01.mtx"]

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Spy plots of H and of its block L, as the talk draws them, from `ldlpgs spy` files.
 
-Usage: python3 papers/plot_spy.py SPY.json [SPY.json ...] [--out-dir DIR]
+Usage: python3 papers/scripts/plot_spy.py SPY.json [SPY.json ...] [--out-dir DIR]
 Writes DIR/NAME.png for each SPY.json (default DIR: the file's own directory).
 
 Left, H = J W J^T over the equality constraints in the order the scene lists them: a square

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Peers side by side (papers/peers.md), from `ldlpgs peers SCENE --json` files.
 
-Usage: python3 papers/plot_peers.py PEERS.json [PEERS.json ...] --out-dir DIR [--table]
+Usage: python3 papers/scripts/plot_peers.py PEERS.json [PEERS.json ...] --out-dir DIR [--table]
 Files of the same scene (repeated runs) are merged: each engine's step time is the median of its
 runs' medians (the errors are deterministic, the same in every run).
 Writes DIR/peers-SCENE.png for each file: log-log, x = median wall time of one whole step (us),

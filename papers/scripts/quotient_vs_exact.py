@@ -6,7 +6,7 @@ the test matrices (blocks auto, Pd.mtx left out), the families at 20, 40, 60, 30
 off); prints, per ordering, the geometric mean of the flop ratio, the worst case
 and every problem more than 2% off (either way).
 
-Usage: python3 papers/quotient_vs_exact.py [build/bin/ldlpgs]   (about 4 minutes on 2 cores,
+Usage: python3 papers/scripts/quotient_vs_exact.py [build/bin/ldlpgs]   (about 4 minutes on 2 cores,
 nearly all of it the -exact orderings at 3000 constraints)
 """
 import glob
@@ -16,7 +16,7 @@ import os
 import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BIN = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build/bin/ldlpgs")
 PAIRS = [("mda", "mda-exact"), ("mda-w", "mda-w-exact"), ("meca", "meca-exact"), ("meca-w", "meca-w-exact")]
 

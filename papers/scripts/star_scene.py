@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The scale scene of papers/factor.md: a hub carrying N arms on ball joints.
 
-Usage: python3 papers/star_scene.py N OUT.json
+Usage: python3 papers/scripts/star_scene.py N OUT.json
 
 A 10 kg hub (inertia 1 kg m^2 about each axis) on a ball joint to the ground at (0, 5, 0); N
 arms of 1 kg (inertia 0.1) around it at radius 2 m, heights 5, 5.1 and 5.2 m in turn, each on a
@@ -31,7 +31,7 @@ def scene(n):
 
 def main():
     if len(sys.argv) != 3 or not sys.argv[1].isdigit() or int(sys.argv[1]) < 1:
-        sys.exit("usage: python3 papers/star_scene.py N OUT.json (N a positive integer)")
+        sys.exit("usage: python3 papers/scripts/star_scene.py N OUT.json (N a positive integer)")
     with open(sys.argv[2], "w") as out:
         json.dump(scene(int(sys.argv[1])), out)
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """index.md -> index.html for `ldlpgs report`, with Debian's python3-markdown (tables extension).
 
-Usage: python3 papers/render_html.py INDEX.md INDEX.html
+Usage: python3 papers/scripts/render_html.py INDEX.md INDEX.html
 Images keep their relative links, so the HTML page sits beside the figures it shows.
 """
 import sys
