@@ -25,8 +25,7 @@ int main() {
     link.position = Vector3d((i + 0.5) * length, 0, 0);  // horizontal at first: it swings down
     const int current = m.add_body(link);
     // Each link hangs from the previous body at their shared end.
-    m.add_constraint(ldlpgs::make_ball(previous, m.bodies[previous], current, m.bodies[current],
-                                       Vector3d(i * length, 0, 0)));
+    m.add_constraint(m.ball(previous, current, Vector3d(i * length, 0, 0)));
     previous = current;
   }
   m.timestep = 1.0 / 100;

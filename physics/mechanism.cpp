@@ -52,6 +52,25 @@ int Mechanism::num_dynamic_bodies() const {
   return n;
 }
 
+Constraint Mechanism::ball(int a, int b, const Eigen::Vector3d& anchor) const {
+  return make_ball(a, bodies[a], b, bodies[b], anchor);
+}
+Constraint Mechanism::axial(ConstraintType type, int a, int b, const Eigen::Vector3d& anchor,
+                            const Eigen::Vector3d& axis) const {
+  return make_axial(type, a, bodies[a], b, bodies[b], anchor, axis);
+}
+Constraint Mechanism::distance(ConstraintType type, int a, int b, const Eigen::Vector3d& anchor_on_a,
+                               const Eigen::Vector3d& anchor_on_b, double length) const {
+  return make_distance(type, a, bodies[a], b, bodies[b], anchor_on_a, anchor_on_b, length);
+}
+Constraint Mechanism::angular_limit(int a, int b, const Eigen::Vector3d& axis, double min, double max) const {
+  return make_angular_limit(a, bodies[a], b, bodies[b], axis, min, max);
+}
+Constraint Mechanism::positional_limit(int a, int b, const Eigen::Vector3d& anchor, const Eigen::Vector3d& axis,
+                                       double min, double max) const {
+  return make_positional_limit(a, bodies[a], b, bodies[b], anchor, axis, min, max);
+}
+
 // The constraint graph of sparse/families.h over the bodies and the chosen constraints.
 BlockPattern Mechanism::constraint_graph(bool equality_only) const {
   BodyGraph graph;

@@ -26,6 +26,15 @@ struct Mechanism {
   int find_body(std::string_view body_name) const;  // -1 if none has that name
   int add_body(RigidBody body);                      // returns its index
   int add_constraint(Constraint constraint);         // returns its index
+  // constraint.h's builders (make_ball, ...) with the two bodies named once, by index, at their
+  // current pose: m.add_constraint(m.ball(a, b, anchor)).
+  Constraint ball(int a, int b, const Eigen::Vector3d& anchor) const;
+  Constraint axial(ConstraintType type, int a, int b, const Eigen::Vector3d& anchor, const Eigen::Vector3d& axis) const;
+  Constraint distance(ConstraintType type, int a, int b, const Eigen::Vector3d& anchor_on_a,
+                      const Eigen::Vector3d& anchor_on_b, double length = -1) const;
+  Constraint angular_limit(int a, int b, const Eigen::Vector3d& axis, double min, double max) const;
+  Constraint positional_limit(int a, int b, const Eigen::Vector3d& anchor, const Eigen::Vector3d& axis, double min,
+                              double max) const;
   int num_rows() const;                              // sum of the constraints' rows
   int num_dynamic_bodies() const;
   // The first limit or rope (an inequality row: the direct solver does not take it), -1 if none.

@@ -311,10 +311,10 @@ class Converter {
   const RigidBody& at(int b) const { return out_->bodies[b]; }
 
   void angular_limit(int p, int b, const Joint& j) {
-    if (j.limited) add(make_angular_limit(p, at(p), b, at(b), j.axis, j.lo, j.hi));
+    if (j.limited) add(out_->angular_limit(p, b, j.axis, j.lo, j.hi));
   }
   void positional_limit(int p, int b, const Vector3d& anchor, const Joint& j) {
-    if (j.limited) add(make_positional_limit(p, at(p), b, at(b), anchor, j.axis, j.lo, j.hi));
+    if (j.limited) add(out_->positional_limit(p, b, anchor, j.axis, j.lo, j.hi));
   }
 
   // The joints of body b (in MuJoCo's order), and a label naming them for refusals.
@@ -361,11 +361,11 @@ class Converter {
     const int p = set.parent;
     const size_t hinges = set.hinges.size(), slides = set.slides.size();
     if (set.all.empty()) {  // rigidly attached to a moving parent
-      add(make_axial(ConstraintType::weld, p, at(p), b, at(b), at(b).position, Vector3d::UnitX()));
+      add(out_->axial(ConstraintType::weld, p, b, at(b).position, Vector3d::UnitX()));
     } else if (set.all.size() == 1 && set.all[0].type == mjJNT_FREE) {
       // six degrees of freedom: no rows
     } else if (set.all.size() == 1 && set.all[0].type == mjJNT_BALL) {
-      add(make_ball(p, at(p), b, at(b), set.all[0].anchor));
+      add(out_->ball(p, b, set.all[0].anchor));
       if (m_->jnt_limited[set.all[0].id] && !(m_->opt.disableflags & mjDSBL_LIMIT)) ++dropped_->ranges;  // a cone
     } else if (hinges + slides != set.all.size()) {
       refuse(set, "a free or ball joint combined with other joints");
@@ -388,18 +388,18 @@ class Converter {
     const int p = set.parent, b = set.body;
     if (set.slides.empty()) {
       const Joint& h = set.hinges[0];
-      add(make_axial(ConstraintType::hinge, p, at(p), b, at(b), h.anchor, h.axis));
+      add(out_->axial(ConstraintType::hinge, p, b, h.anchor, h.axis));
       angular_limit(p, b, h);
     } else if (set.hinges.empty()) {
       const Joint& s = set.slides[0];
-      add(make_axial(ConstraintType::prismatic, p, at(p), b, at(b), at(b).position, s.axis));
+      add(out_->axial(ConstraintType::prismatic, p, b, at(b).position, s.axis));
       positional_limit(p, b, at(b).position, s);
     } else {
       const Joint &h = set.hinges[0], &s = set.slides[0];
       if (h.axis.cross(s.axis).norm() > kSameAxis)
         refuse(set, "a hinge and a slide on different axes (1 rotational and 1 translational degree of freedom off "
                     "one axis: 2 translational and 2 rotational rows not of a cylindrical joint)");
-      add(make_axial(ConstraintType::cylindrical, p, at(p), b, at(b), h.anchor, h.axis));
+      add(out_->axial(ConstraintType::cylindrical, p, b, h.anchor, h.axis));
       angular_limit(p, b, h);
       positional_limit(p, b, h.anchor, s);
     }
@@ -465,7 +465,7 @@ class Converter {
         refuse(set, why);
       }
     }
-    add(make_ball(p, at(p), b, at(b), point));
+    add(out_->ball(p, b, point));
     // Their ranges bound Euler angles, which our limits (one angle about one axis) cannot
     // measure.
     for (const Joint& h : set.hinges) dropped_->ranges += h.limited ? 1 : 0;
@@ -487,13 +487,13 @@ class Converter {
     const double offset = (p2 - p1).norm();
     const double length = kUniversalRodLength;
     if (offset <= kMeet * anchor_scale(set)) {
-      add(make_ball(p, at(p), b, child, (p1 + p2) / 2));
-      add(make_distance(ConstraintType::rod, p, at(p), b, child, p1 + length * n1, p2 + length * n2));
+      add(out_->ball(p, b, (p1 + p2) / 2));
+      add(out_->distance(ConstraintType::rod, p, b, p1 + length * n1, p2 + length * n2));
     } else {
-      add(make_distance(ConstraintType::rod, p, at(p), b, child, p1, p2));
-      add(make_distance(ConstraintType::rod, p, at(p), b, child, p1 + length * n1, p2));
-      add(make_distance(ConstraintType::rod, p, at(p), b, child, p1, p2 + length * n2));
-      add(make_distance(ConstraintType::rod, p, at(p), b, child, p1 + length * n1, p2 + length * n2));
+      add(out_->distance(ConstraintType::rod, p, b, p1, p2));
+      add(out_->distance(ConstraintType::rod, p, b, p1 + length * n1, p2));
+      add(out_->distance(ConstraintType::rod, p, b, p1, p2 + length * n2));
+      add(out_->distance(ConstraintType::rod, p, b, p1 + length * n1, p2 + length * n2));
     }
     // q1 turns the child about n1 (parent-fixed) and leaves n2 (child-fixed) alone, so q1 is the
     // angle of the child's n2 about the parent's n1, measured from its qpos0 direction: an
@@ -501,7 +501,7 @@ class Converter {
     // (hinge_angle reads only those and n_a; the part of u_b along n_a changes neither s nor k).
     const Matrix3d rp = at(p).orientation.toRotationMatrix(), rc = child.orientation.toRotationMatrix();
     if (h1.limited) {
-      Constraint c = make_angular_limit(p, at(p), b, child, n1, h1.lo, h1.hi);
+      Constraint c = out_->angular_limit(p, b, n1, h1.lo, h1.hi);
       c.frame_a = rp.transpose() * frame_about(n1, n2);
       c.frame_b = rc.transpose() * frame_from(n2);
       add(c);
@@ -509,7 +509,7 @@ class Converter {
     // q2 turns the child about n2 (child-fixed) after q1, which leaves n1 (parent-fixed) alone, so
     // seen from the child the parent's n1 turns by -q2 about n2: the limit with a = child.
     if (h2.limited) {
-      Constraint c = make_angular_limit(b, child, p, at(p), n2, -h2.hi, -h2.lo);
+      Constraint c = out_->angular_limit(b, p, n2, -h2.hi, -h2.lo);
       c.frame_a = rc.transpose() * frame_about(n2, n1);
       c.frame_b = rp.transpose() * frame_from(n1);
       add(c);
@@ -540,7 +540,7 @@ class Converter {
     if (type == mjEQ_CONNECT) {
       // data[0..2]: the anchor in body1's frame, data[3..5]: in body2's (MuJoCo computes it at
       // qpos0); both kept, so a connect that starts apart is pulled together as in MuJoCo.
-      Constraint c = make_ball(b1, at(b1), b2, at(b2), x1 + q1 * vec3(data));
+      Constraint c = out_->ball(b1, b2, x1 + q1 * vec3(data));
       c.anchor_b = at(b2).orientation.conjugate() * (x2 + q2 * vec3(data + 3) - at(b2).position);
       add(c);
       return;
@@ -554,7 +554,7 @@ class Converter {
     const double angle_error = (wanted.conjugate() * relquat).vec().norm();
     if (!(pose_error <= kSamePose && angle_error <= kSamePose))
       fail(label, "its relpose differs from the bodies' relative pose at qpos0 (we weld bodies where they are)");
-    add(make_axial(ConstraintType::weld, b1, at(b1), b2, at(b2), at(b2).position, Vector3d::UnitX()));
+    add(out_->axial(ConstraintType::weld, b1, b2, at(b2).position, Vector3d::UnitX()));
   }
 
   const std::string& path_;

@@ -61,10 +61,10 @@ Eigen::Quaterniond along_xy(const Vector3d& p, const Vector3d& q) {
 }
 
 void ball(Mechanism* m, int a, int b, const Vector3d& anchor) {
-  m->add_constraint(make_ball(a, m->bodies[a], b, m->bodies[b], anchor));
+  m->add_constraint(m->ball(a, b, anchor));
 }
 void axial(Mechanism* m, ConstraintType type, int a, int b, const Vector3d& anchor, const Vector3d& axis) {
-  m->add_constraint(make_axial(type, a, m->bodies[a], b, m->bodies[b], anchor, axis));
+  m->add_constraint(m->axial(type, a, b, anchor, axis));
 }
 
 std::string numbered(const char* prefix, int i) {
@@ -135,7 +135,7 @@ Mechanism ragdoll() {
     // a positive angle about (0, -s, 0) turns the forearm from +-x towards +z (forward)
     const Vector3d elbow_axis(0, -s, 0), elbow(s * 0.48, ya, 0);
     axial(&m, ConstraintType::hinge, upper_arm, lower_arm, elbow, elbow_axis);
-    m.add_constraint(make_angular_limit(upper_arm, m.bodies[upper_arm], lower_arm, m.bodies[lower_arm], elbow_axis,
+    m.add_constraint(m.angular_limit(upper_arm, lower_arm, elbow_axis,
                                         -0.05, 2.6));
     // leg along -y: hip under the pelvis, thigh 0.44 m, shin and foot 0.46 m
     const int upper_leg = m.add_body(dynamic_body(std::string("upper_leg_") + n, 8, cylinder_inertia(8, 0.07, 0.44, 1),
@@ -147,7 +147,7 @@ Mechanism ragdoll() {
     const Vector3d knee(s * 0.10, y0 - 0.54, 0);
     axial(&m, ConstraintType::hinge, upper_leg, lower_leg, knee, kX);
     m.add_constraint(
-        make_angular_limit(upper_leg, m.bodies[upper_leg], lower_leg, m.bodies[lower_leg], kX, -0.05, 2.4));
+        m.angular_limit(upper_leg, lower_leg, kX, -0.05, 2.4));
   }
   // thrown: v = v0 + w x (p - centre of mass), the same w for every body
   Vector3d centre = Vector3d::Zero();
@@ -273,9 +273,9 @@ Mechanism rope_bridge() {
   for (int j = 0; j <= planks; ++j) {
     const int a = body[j], b = body[j + 1];
     const Vector3d &pa = p[2 * j], &pb = p[2 * j + 1];
-    m.add_constraint(make_distance(ConstraintType::rod, a, m.bodies[a], b, m.bodies[b], pa, pb));
+    m.add_constraint(m.distance(ConstraintType::rod, a, b, pa, pb));
     for (double z : {side, -side})
-      m.add_constraint(make_distance(ConstraintType::rope, a, m.bodies[a], b, m.bodies[b], pa + z * kZ, pb + z * kZ));
+      m.add_constraint(m.distance(ConstraintType::rope, a, b, pa + z * kZ, pb + z * kZ));
   }
   return m;
 }

@@ -122,7 +122,7 @@ TEST(Collision, JointedBodiesTouchOnlyWhenTheirConstraintSaysCollide) {
     Mechanism m;
     const int a = add(&m, "a", false, Vector3d::Zero(), sphere_shape(0.5));
     const int b = add(&m, "b", false, Vector3d(0.9, 0, 0), sphere_shape(0.5));
-    Constraint c = make_ball(a, m.bodies[a], b, m.bodies[b], Vector3d(0.45, 0, 0));
+    Constraint c = m.ball(a, b, Vector3d(0.45, 0, 0));
     c.collide = collide;
     m.add_constraint(c);
     CollisionWorld world(m);

@@ -445,7 +445,7 @@ TEST(Scenes, TorqueTurnsAHingedDiscAtTauTOverI) {
   disc.position = Eigen::Vector3d(0.5, 1, 0);
   disc.applied_torque = Eigen::Vector3d(0, 0, tau);
   m.add_body(disc);
-  m.add_constraint(make_axial(ConstraintType::hinge, 0, m.bodies[0], 1, m.bodies[1], disc.position, Eigen::Vector3d::UnitZ()));
+  m.add_constraint(m.axial(ConstraintType::hinge, 0, 1, disc.position, Eigen::Vector3d::UnitZ()));
   const double izz = disc.inertia.z();
   for (SolverKind kind : {SolverKind::ldl_pgs, SolverKind::direct}) {
     SCOPED_TRACE(to_string(kind));

@@ -403,7 +403,7 @@ Mechanism swing_rack() {
   beam.angular_velocity = Vector3d(0.6, 0.5, 0.3);
   beam.linear_velocity = beam.angular_velocity.cross(beam.position);
   const int b = m.add_body(beam);
-  m.add_constraint(make_ball(0, m.bodies[0], b, m.bodies[b], Vector3d::Zero()));
+  m.add_constraint(m.ball(0, b, Vector3d::Zero()));
   const double l = 1, t = 0.05, link_mass = 5;
   for (int i = 0; i < 8; ++i) {
     const Vector3d top(-1.75 + 0.5 * i, -0.4 - ly / 2, 0);
@@ -419,9 +419,9 @@ Mechanism swing_rack() {
     link.angular_velocity = beam.angular_velocity;
     const int k = m.add_body(link);
     if (i % 2)
-      m.add_constraint(make_axial(ConstraintType::hinge, b, m.bodies[b], k, m.bodies[k], top, Vector3d::UnitZ()));
+      m.add_constraint(m.axial(ConstraintType::hinge, b, k, top, Vector3d::UnitZ()));
     else
-      m.add_constraint(make_ball(b, m.bodies[b], k, m.bodies[k], top));
+      m.add_constraint(m.ball(b, k, top));
   }
   return m;
 }
@@ -520,11 +520,11 @@ TEST(Shatter, ShatteredMechanismsMoveAsTheWholeOnes) {
 Mechanism light_hub_star(double hub_mass, int arms) {
   Mechanism m = grounded("star");
   const int h = m.add_body(dynamic("hub", hub_mass, Vector3d(1, 1, 1), Vector3d::Zero()));
-  m.add_constraint(make_ball(0, m.bodies[0], h, m.bodies[h], Vector3d::Zero()));
+  m.add_constraint(m.ball(0, h, Vector3d::Zero()));
   for (int i = 0; i < arms; ++i) {
     const double x = -0.5 + i / (arms - 1.0);
     const int b = m.add_body(dynamic(numbered("arm", i), 1, Vector3d(0.01, 0.01, 0.01), Vector3d(x, -0.3, 0.2)));
-    m.add_constraint(make_ball(h, m.bodies[h], b, m.bodies[b], Vector3d(x, 0, 0)));
+    m.add_constraint(m.ball(h, b, Vector3d(x, 0, 0)));
   }
   return m;
 }

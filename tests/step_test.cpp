@@ -76,7 +76,7 @@ Mechanism hanging_chain(int n, double load = 1, double angle = 0, double l = 0.5
     link.inertia = mass / 12 * Eigen::Vector3d(l * l + t * t, 2 * t * t, l * l + t * t);
     link.orientation = tilt;
     m.add_body(link);
-    m.add_constraint(make_ball(i, m.bodies[i], i + 1, m.bodies[i + 1], l * i * down));
+    m.add_constraint(m.ball(i, i + 1, l * i * down));
   }
   return m;
 }
@@ -96,7 +96,7 @@ TEST(Step, PendulumPeriodMatchesTheAnalyticValue) {
     m.add_body(ground());
     RigidBody bob = box("bob", 1, Eigen::Vector3d(l * std::sin(amplitude), -l * std::cos(amplitude), 0));
     m.add_body(bob);
-    m.add_constraint(make_ball(0, m.bodies[0], 1, m.bodies[1], Eigen::Vector3d::Zero()));
+    m.add_constraint(m.ball(0, 1, Eigen::Vector3d::Zero()));
     // a compound pendulum: equivalent length (I + m l^2) / (m l)
     const double l_eq = (bob.inertia[2] + bob.mass * l * l) / (bob.mass * l);
     const double expected = 2 * std::numbers::pi * std::sqrt(l_eq / g) / agm(1, std::cos(amplitude / 2));
@@ -164,13 +164,13 @@ Mechanism free_mechanism() {
   }
   const Eigen::Vector3d axis(0.3, 1, -0.2);
   auto mid = [&](int i) { return 0.5 * (m.bodies[i].position + m.bodies[i + 1].position); };
-  m.add_constraint(make_ball(0, m.bodies[0], 1, m.bodies[1], mid(0)));
-  m.add_constraint(make_axial(ConstraintType::hinge, 1, m.bodies[1], 2, m.bodies[2], mid(1), axis));
-  m.add_constraint(make_axial(ConstraintType::cylindrical, 2, m.bodies[2], 3, m.bodies[3], mid(2), axis));
-  m.add_constraint(make_axial(ConstraintType::prismatic, 3, m.bodies[3], 4, m.bodies[4], mid(3), axis));
-  m.add_constraint(make_distance(ConstraintType::rod, 4, m.bodies[4], 5, m.bodies[5], m.bodies[4].position,
+  m.add_constraint(m.ball(0, 1, mid(0)));
+  m.add_constraint(m.axial(ConstraintType::hinge, 1, 2, mid(1), axis));
+  m.add_constraint(m.axial(ConstraintType::cylindrical, 2, 3, mid(2), axis));
+  m.add_constraint(m.axial(ConstraintType::prismatic, 3, 4, mid(3), axis));
+  m.add_constraint(m.distance(ConstraintType::rod, 4, 5, m.bodies[4].position,
                                  m.bodies[5].position + Eigen::Vector3d(0, 0.05, 0)));
-  m.add_constraint(make_axial(ConstraintType::weld, 5, m.bodies[5], 6, m.bodies[6], mid(5), axis));
+  m.add_constraint(m.axial(ConstraintType::weld, 5, 6, mid(5), axis));
   return m;
 }
 
@@ -218,10 +218,10 @@ Mechanism four_bar() {
   m.add_body(box("coupler", 2, 0.5 * (b + c)));
   m.add_body(box("rocker", 1, 0.5 * (c + d)));
   m.bodies[1].angular_velocity = Eigen::Vector3d(0, 0, 2);
-  m.add_constraint(make_axial(ConstraintType::hinge, 0, m.bodies[0], 1, m.bodies[1], a, z));
-  m.add_constraint(make_axial(ConstraintType::hinge, 1, m.bodies[1], 2, m.bodies[2], b, z));
-  m.add_constraint(make_axial(ConstraintType::hinge, 2, m.bodies[2], 3, m.bodies[3], c, z));
-  m.add_constraint(make_axial(ConstraintType::hinge, 3, m.bodies[3], 0, m.bodies[0], d, z));
+  m.add_constraint(m.axial(ConstraintType::hinge, 0, 1, a, z));
+  m.add_constraint(m.axial(ConstraintType::hinge, 1, 2, b, z));
+  m.add_constraint(m.axial(ConstraintType::hinge, 2, 3, c, z));
+  m.add_constraint(m.axial(ConstraintType::hinge, 3, 0, d, z));
   return m;
 }
 
@@ -303,8 +303,7 @@ TEST(Step, RopesAndLimitsAreNeverViolated) {
   ropes.add_body(ground());
   for (int i = 0; i < 3; ++i) {
     ropes.add_body(box(numbered("b", i), 1 + i, Eigen::Vector3d(0.6 * (i + 1), 0.2, 0)));
-    ropes.add_constraint(make_distance(ConstraintType::rope, i, ropes.bodies[i], i + 1, ropes.bodies[i + 1],
-                                       ropes.bodies[i].position, ropes.bodies[i + 1].position, 0.7));
+    ropes.add_constraint(ropes.distance(ConstraintType::rope, i, i + 1, ropes.bodies[i].position, ropes.bodies[i + 1].position, 0.7));
   }
   // (b) a door on a hinge about y, pushed towards its limit of +-0.5 rad, no gravity
   Mechanism door;
@@ -315,15 +314,15 @@ TEST(Step, RopesAndLimitsAreNeverViolated) {
   door.bodies[1].angular_velocity = Eigen::Vector3d(0, 4, 0);
   door.bodies[1].linear_velocity = Eigen::Vector3d(0, 0, -2);
   const Eigen::Vector3d y(0, 1, 0);
-  door.add_constraint(make_axial(ConstraintType::hinge, 0, door.bodies[0], 1, door.bodies[1], Eigen::Vector3d::Zero(), y));
-  door.add_constraint(make_angular_limit(0, door.bodies[0], 1, door.bodies[1], y, -0.5, 0.5));
+  door.add_constraint(door.axial(ConstraintType::hinge, 0, 1, Eigen::Vector3d::Zero(), y));
+  door.add_constraint(door.angular_limit(0, 1, y, -0.5, 0.5));
   // (c) a slider on a vertical prismatic joint falling onto its lower limit at -0.2 m
   Mechanism slider;
   slider.name = "slider";
   slider.add_body(ground());
   slider.add_body(box("slider", 2, Eigen::Vector3d(0, 0, 0)));
-  slider.add_constraint(make_axial(ConstraintType::prismatic, 0, slider.bodies[0], 1, slider.bodies[1], Eigen::Vector3d::Zero(), y));
-  slider.add_constraint(make_positional_limit(0, slider.bodies[0], 1, slider.bodies[1], Eigen::Vector3d::Zero(), y, -0.2, 0.2));
+  slider.add_constraint(slider.axial(ConstraintType::prismatic, 0, 1, Eigen::Vector3d::Zero(), y));
+  slider.add_constraint(slider.positional_limit(0, 1, Eigen::Vector3d::Zero(), y, -0.2, 0.2));
   // A joint that turns drifts apart by O(dt^2 v^2 / r) per step whatever the solver (the
   // position follows the velocity only to first order), and Baumgarte removes a fraction beta
   // of it per step: at dt = 2 ms and these speeds that is below 1 mm (at 10 ms the ropes reach
@@ -470,7 +469,7 @@ TEST(PostStabilize, RotatesAboutTheWorldFrameAxis) {
   b.inertia = Eigen::Vector3d(0.02, 0.05, 0.09);
   b.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(1.1, Eigen::Vector3d(1, 2, 3).normalized()));
   Mechanism m = ground_and("welded", b);
-  m.add_constraint(make_axial(ConstraintType::weld, 0, m.bodies[0], 1, m.bodies[1], Eigen::Vector3d(0.3, 0.2, 0.1),
+  m.add_constraint(m.axial(ConstraintType::weld, 0, 1, Eigen::Vector3d(0.3, 0.2, 0.1),
                               Eigen::Vector3d(0, 0, 1)));
   StepOptions o = options(SolverKind::direct);
   o.post_stabilize = 1;
@@ -503,12 +502,12 @@ Mechanism mixed_3d_chain(bool limits) {
     const Eigen::Vector3d joint(l * i, 0, 0);
     const Eigen::Vector3d axis = Eigen::Vector3d(0.3 * (i % 3), 1, 0.7 * ((i + 1) % 2)).normalized();
     switch (i % 3) {
-      case 0: m.add_constraint(make_ball(i, m.bodies[i], i + 1, m.bodies[i + 1], joint)); break;
-      case 1: m.add_constraint(make_axial(ConstraintType::hinge, i, m.bodies[i], i + 1, m.bodies[i + 1], joint, axis)); break;
+      case 0: m.add_constraint(m.ball(i, i + 1, joint)); break;
+      case 1: m.add_constraint(m.axial(ConstraintType::hinge, i, i + 1, joint, axis)); break;
       default:
-        m.add_constraint(make_axial(ConstraintType::cylindrical, i, m.bodies[i], i + 1, m.bodies[i + 1], joint, axis));
+        m.add_constraint(m.axial(ConstraintType::cylindrical, i, i + 1, joint, axis));
         if (limits)
-          m.add_constraint(make_positional_limit(i, m.bodies[i], i + 1, m.bodies[i + 1], joint, axis, -0.02, 0.02));
+          m.add_constraint(m.positional_limit(i, i + 1, joint, axis, -0.02, 0.02));
     }
   }
   return m;
@@ -615,7 +614,7 @@ TEST(PostStabilize, TheCurvatureTargetKeepsTheEnergyThatProjectionLoses) {
   RigidBody bob = box("bob", 1, Eigen::Vector3d(1, 0, 0));
   bob.linear_velocity = Eigen::Vector3d(0, 3, 0);  // 3 rad/s about the anchor: 0.3 rad per step
   Mechanism spin = ground_and("spinning rod", bob);
-  spin.add_constraint(make_distance(ConstraintType::rod, 0, spin.bodies[0], 1, spin.bodies[1], Eigen::Vector3d::Zero(),
+  spin.add_constraint(spin.distance(ConstraintType::rod, 0, 1, Eigen::Vector3d::Zero(),
                                     bob.position));
   StepOptions no_post = velocity_only(SolverKind::direct);
   no_post.curvature_target = true;
@@ -921,12 +920,12 @@ TEST(LdlpgsRobust, UnshatteredStarIsOneDenseSupernodeAndSteps) {
   m.name = "star";
   m.add_body(ground());
   m.add_body(box("hub", 10, Eigen::Vector3d(0, 5, 0)));
-  m.add_constraint(make_ball(0, m.bodies[0], 1, m.bodies[1], Eigen::Vector3d(0, 5, 0)));
+  m.add_constraint(m.ball(0, 1, Eigen::Vector3d(0, 5, 0)));
   for (int i = 0; i < arms; ++i) {
     const double a = 2 * std::numbers::pi * i / arms;
     const Eigen::Vector3d at(2 * std::cos(a), 5 + 0.1 * (i % 3), 2 * std::sin(a));
     const int b = m.add_body(box(numbered("arm", i), 1, at));
-    m.add_constraint(make_ball(1, m.bodies[1], b, m.bodies[b], 0.5 * (at + m.bodies[1].position)));
+    m.add_constraint(m.ball(1, b, 0.5 * (at + m.bodies[1].position)));
   }
   StepOptions options;
   options.solver.kind = SolverKind::direct;
