@@ -4,8 +4,8 @@
 #                    the main job: build/bin/ldlpgs report (writes report/index.md and index.html)
 # ./build.sh build   set-up and build only
 # ./build.sh fuzz [SECONDS]  clang, the libraries under libFuzzer + ASan + UBSan into build-fuzz/,
-#                    then each target of fuzz/ for SECONDS (default 60) on a scratch copy of its
-#                    seed corpus fuzz/corpus/<target>; fails on any finding (kept in
+#                    then each target of fuzz/ for SECONDS (default 60), JOBS at a time, on a
+#                    scratch copy of its seed corpus fuzz/corpus/<target>; fails on any finding (kept in
 #                    build-fuzz/findings/, the log in build-fuzz/fuzz_<target>.log)
 # Environment: BUILD_DIR (default build), SANITIZE=1 (AddressSanitizer + UBSan build),
 #              JOBS (default: number of cores).
@@ -56,6 +56,19 @@ build() {
 
 fuzz_targets=(matrix_market partition scene factor)
 
+# One target for SECONDS on a scratch copy of its seed corpus: libFuzzer adds what it finds to
+# the corpus directory, and the copy keeps the tree clean. Its log: DIR/fuzz_TARGET.log.
+fuzz_one() {
+  local dir=$1 t=$2 seconds=$3 scratch dict=() rc=0
+  scratch=$(mktemp -d)
+  cp fuzz/corpus/"$t"/* "$scratch"/
+  [ -f fuzz/"$t".dict ] && dict=(-dict=fuzz/"$t".dict)
+  "$dir/bin/fuzz_$t" "$scratch" "${dict[@]}" -max_total_time="$seconds" -timeout=30 -rss_limit_mb=2048 \
+    -print_final_stats=1 -artifact_prefix="$dir/findings/$t-" >"$dir/fuzz_$t.log" 2>&1 || rc=$?
+  rm -rf "$scratch"
+  return $rc
+}
+
 fuzz() {
   # Only what the libraries need: the fuzz build has no program, tests, peers, MuJoCo or Python.
   install_missing cmake make clang libclang-rt-14-dev libsuitesparse-dev libmetis-dev libeigen3-dev nlohmann-json3-dev pkg-config libode-dev
@@ -65,22 +78,24 @@ fuzz() {
     -DLDLPGS_BUILD_PYTHON=OFF -DLDLPGS_WITH_MUJOCO=OFF -DLDLPGS_INSTALL=OFF
   cmake --build "$dir" -j "${JOBS:-$(nproc)}"
   rm -rf "$dir/findings" && mkdir -p "$dir/findings"  # this run's findings only
+  # libFuzzer runs one process on one core: JOBS targets at a time, each still for SECONDS (on
+  # the 2-core CI machine the four take 2 x SECONDS instead of 4 x SECONDS, each with a core).
+  local jobs=${JOBS:-$(nproc)} pids=() names=()
   for t in "${fuzz_targets[@]}"; do
-    # libFuzzer adds what it finds to the corpus directory: a scratch copy keeps the tree clean.
-    local scratch dict=()
-    scratch=$(mktemp -d)
-    cp fuzz/corpus/"$t"/* "$scratch"/
-    [ -f fuzz/"$t".dict ] && dict=(-dict=fuzz/"$t".dict)
+    while (($(jobs -rp | wc -l) >= jobs)); do wait -n || true; done
     echo "build.sh fuzz: $t for ${seconds} s"
-    if "$dir/bin/fuzz_$t" "$scratch" "${dict[@]}" -max_total_time="$seconds" -timeout=30 -rss_limit_mb=2048 \
-         -print_final_stats=1 -artifact_prefix="$dir/findings/$t-" >"$dir/fuzz_$t.log" 2>&1; then
+    fuzz_one "$dir" "$t" "$seconds" &
+    pids+=($!) names+=("$t")
+  done
+  for i in "${!pids[@]}"; do  # in the targets' order, whichever ends first
+    local t=${names[$i]}
+    if wait "${pids[$i]}"; then
       grep -h "stat::number_of_executed_units" "$dir/fuzz_$t.log" || true
     else
       failed=1
       echo "build.sh fuzz: $t FOUND A FAILURE (input in $dir/findings/, log $dir/fuzz_$t.log):" >&2
       grep -v "^#" "$dir/fuzz_$t.log" | tail -40 >&2
     fi
-    rm -rf "$scratch"
   done
   return $failed
 }
