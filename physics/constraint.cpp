@@ -179,6 +179,8 @@ bool constraint_type_from_string(std::string_view name, ConstraintType* type) {
   return false;
 }
 
+// Long: one case per constraint type, each with its Jacobian above its code (DEVELOPERS.md, the
+// tagged type dispatched by a switch).
 ConstraintRows evaluate(const Constraint& constraint, const RigidBody& a, const RigidBody& b) {
   const Constraint& c = constraint;
   const Pose p = pose_of(c, a, b);

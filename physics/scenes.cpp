@@ -462,7 +462,7 @@ RigidBody triangle_plate(const std::string& name, double mass, double thickness,
 // (velocities from the derivatives of the dyads), the legs swinging under gravity through the
 // air, the feet 8 cm above y = 0 at the bottom of their stride. The frame is static, so the
 // crankshaft joins 13 constraints (a dense 61 x 61 block of H) and the frame's own couple
-// nothing: 34 bodies, 33 dynamic.
+// nothing: 34 bodies, 33 dynamic. (Long: the parts listed in the order the paragraph names them.)
 Mechanism mechanism_50() {
   Mechanism m;
   m.name = "mechanism-50";

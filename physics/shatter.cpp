@@ -77,6 +77,9 @@ double equality_flops(const Mechanism& m, const OrderingInfo& info) {
 
 }  // namespace
 
+// Long: the shattering in the talk's order (the axis, the spacing, the shards and their names, the
+// constraints spread over them, the welds, the mass properties, the load), each step commented;
+// the steps share the shard list and the axis.
 Mechanism shatter_body(const Mechanism& mechanism, int body, int k, std::vector<int>* shard_indices) {
   assert(body >= 0 && body < static_cast<int>(mechanism.bodies.size()));
   assert(k >= 2);

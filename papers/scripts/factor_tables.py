@@ -107,7 +107,7 @@ def bench_table(problems):
     return ", ".join(sorted(blas)) + "; our kernels " + ", ".join(sorted(kernels))
 
 
-# Issue 13's measure: the fastest factorization of CHOLMOD simplicial, CHOLMOD supernodal and Eigen
+# The target's measure: the fastest factorization of CHOLMOD simplicial, CHOLMOD supernodal and Eigen
 # simplicial (same permutation) over ours, and which one it was.
 def fastest_other(b):
     others = [(b[f"{n}_factor_us"], label) for n, label in
