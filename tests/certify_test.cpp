@@ -149,7 +149,7 @@ TEST(Best, ComputeOrderingReportsTheWinner) {
   EXPECT_EQ(compute_ordering(find_ordering("amd"), p, a).chosen, "amd");
 }
 
-// Issue 15: meca 41,400 block flops and 38 fill edges on the tracked vehicle, the optimum
+// meca 41,400 block flops and 38 fill edges on the tracked vehicle, the optimum
 // (meca-w, amd) 38,300 and 34.
 TEST(Certify, TrackedVehicleIsSolvedAt38300) {
   Mechanism m;

@@ -508,7 +508,7 @@ TEST(CholmodLdl, IgnoresAndRestoresCommonSettings) {
   EXPECT_EQ(c->method[0].ordering, CHOLMOD_AMD);
 }
 
-// Matrices without stored entries (issue 14, class 1): their empty arrays gave CHOLMOD null
+// Matrices without stored entries: their empty arrays gave CHOLMOD null
 // pointers (status -4, "invalid xtype") and n = 0 its analysis refuses; now the counts are the
 // diagonal's (the analytic answer: L = I, one flop per column) and the LDL^T of an empty
 // diagonal stops at its first column.

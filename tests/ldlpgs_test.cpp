@@ -1179,7 +1179,7 @@ TEST(LdlpgsVocabulary, BenchOnALargeMatrixPrintsProgress) {
 
 }  // namespace vocabulary_test
 
-// Robustness (issue 14), one test per class of finding. Each failed on the main of 0c33819.
+// Robustness, one test per class of finding. Each failed on the main of 0c33819.
 
 // Class 1: matrices without stored entries aborted in CHOLMOD (terminate, status -4).
 TEST(LdlpgsRobust, MatricesWithoutEntriesDoNotAbort) {
@@ -1227,7 +1227,7 @@ TEST(LdlpgsRobust, MessagesAreOneBoundedPrintableLine) {
   EXPECT_NE(r.err.find("\\x00"), std::string::npos) << r.err;  // escaped, and the message goes on after it
 }
 
-// issue 14: readers, numerics and messages
+// Readers, numerics and messages
 
 // Class 8: order printed nnz(A) as 2 nnz - n, which assumes a stored diagonal: -5 for an empty
 // 5 x 5, 1 for a 3 x 3 with one diagonal and one off-diagonal entry (it has 3).
@@ -1309,7 +1309,7 @@ TEST(LdlpgsRobust, VerifyNeverAgreesOnAToleranceThatChecksNothing) {
   }
 }
 
-// issue 14: physics-side classes. Each failed on the main of 0241fc1 (the old program: exit 0
+// Physics-side classes. Each failed on the main of 0241fc1 (the old program: exit 0
 // with a negative timestep, NaN in the trace and in H.mtx, a scene spy wrote that step refused,
 // exit 0 on a chain 48.9 m apart).
 #ifdef LDLPGS_HAVE_MUJOCO
@@ -1387,7 +1387,7 @@ TEST(LdlpgsRobust, MassRatioBeyondTheSupportedRangeExitsOne) {
   EXPECT_TRUE(nlohmann::json::parse(supported.out)["failure"].is_null());
 }
 
-// Issue 15: on the talk's tracked vehicle meca gives 41,400 block flops; best chooses meca-w's
+// On the talk's tracked vehicle meca gives 41,400 block flops; best chooses meca-w's
 // 38,300, and --certify proves no block order has fewer.
 TEST(LdlpgsOrder, CertifiesTheTrackedVehicle) {
   const std::string mtx = temp_path("tracked.mtx"), blocks = temp_path("tracked.blocks");

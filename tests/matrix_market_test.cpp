@@ -456,7 +456,7 @@ TEST(MatrixMarketWrite, CannotWrite) {
   }
 }
 
-// Declared sizes are checked against size_limits() before anything is allocated (issue 14); a
+// Declared sizes are checked against size_limits() before anything is allocated; a
 // lifted limit reads the same file.
 TEST(MatrixMarket, DeclaredSizesBeyondTheLimitsAreRefused) {
   const std::string content = "%%MatrixMarket matrix coordinate real symmetric\n20 20 2\n1 1 1\n20 20 1\n";
@@ -472,7 +472,7 @@ TEST(MatrixMarket, DeclaredSizesBeyondTheLimitsAreRefused) {
 }
 
 // Input bytes in messages are escaped and bounded: a NUL or a control byte inside an entry no
-// longer cuts the message short or spills into the terminal (issue 14).
+// longer cuts the message short or spills into the terminal.
 TEST(MatrixMarket, ControlBytesInAnEntryAreEscapedInTheMessage) {
   static const char kContent[] = "%%MatrixMarket matrix coordinate real symmetric\n2 2 2\n1 1 1\0x\x1b[2J\n2 2 1\n";
   const std::string message = error_of(temp_file("nul.mtx", std::string(kContent, sizeof(kContent) - 1)));

@@ -581,7 +581,7 @@ TEST(MjcfBadInput, WeldAwayFromItsRelpose) {
                  {"equality \"w\" (weld)", "relpose"});
 }
 
-// ---- issue 14, class 4: what a file can hand MuJoCo ----
+// ---- what a file can hand MuJoCo ----
 
 // A hinge axis "nan 0 0" on a model with a muscle (whose length range MuJoCo computes by stepping
 // the model) never returned from mj_loadXML; now every non-finite or unparsable number in a

@@ -526,7 +526,7 @@ TEST(NumericMisuse, PartitionThatDoesNotCoverTheRowsThrows) {
   EXPECT_THROW(Symbolic::analyze(a, BlockPattern::unit(b), std::vector<int>{0, 1, 2, 3, 4, 5}), ArgumentError);
 }
 
-// issue 14: readers, numerics and messages
+// Readers, numerics and messages
 
 // a with every stored entry times 2^k (ldexp: exact unless it lands among the subnormals).
 SymmetricCsc scaled(SymmetricCsc a, int k) {

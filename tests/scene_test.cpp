@@ -939,7 +939,7 @@ TEST(SceneBadInput, ErrorPositionsBeyondTheFirstChunk) {
   EXPECT_EQ(file_error_of(range), range + ":200001:28: number 1e400 is out of the range of a double");
 }
 
-// Deeply nested JSON (issue 14, class 2): the parser survives it, but the message dumped the
+// Deeply nested JSON: the parser survives it, but the message dumped the
 // offending value recursively and overflowed the stack at 4000 levels (70k in Release). Now
 // one short line whatever the depth.
 TEST(Scene, DeeplyNestedValueGivesAShortMessage) {
@@ -962,7 +962,7 @@ TEST(Scene, SyntaxErrorMessageIsBoundedAndPrintable) {
   for (char c : message) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << "byte " << int(c);
 }
 
-// issue 14: readers, numerics and messages
+// Readers, numerics and messages
 // Found by fuzz/scene_fuzz.cpp: names and keys were quoted as JSON without ensure_ascii, so DEL,
 // UTF-8 and invalid bytes (replaced by a raw U+FFFD) went into the message unescaped.
 TEST(SceneBadInput, NamesAndKeysAreQuotedInPrintableAscii) {
@@ -1001,7 +1001,7 @@ TEST(SceneBadInput, DuplicateKeyLocationIsBoundedAndPrintable) {
   EXPECT_NE(message.find("duplicate key \"a\""), std::string::npos) << message.substr(0, 400);
 }
 
-// ---- issue 14, class 5: values whose products overflow ----
+// ---- values whose products overflow ----
 
 // "Finite and positive" let through a mass of 1e-320 (1/m = inf), an anchor at 1e155 (|r|^2 =
 // inf) and a coordinate of 1e308, and export wrote NaN and inf with exit 0. Now every value must

@@ -512,7 +512,7 @@ TEST(Shatter, ShatteredMechanismsMoveAsTheWholeOnes) {
   }
 }
 
-// ---- issue 14, class 7: shattering at extreme ratios, and the shards' names ----
+// ---- shattering at extreme ratios, and the shards' names ----
 
 // A star: a hub of the given mass (inertia 1 kg m^2 about every axis) on a ball joint to the
 // ground, carrying `arms` pendulums of 1 kg by ball joints at 0.5 m along its x axis, spread

@@ -730,7 +730,7 @@ TEST(SimulationState, RefusesNonFiniteValues) {
   EXPECT_THROW(sim.set_timestep(0), InputError);
 }
 
-// issue 14, class 5, for the API: a caller may set only what a scene file may hold
+// The same for the API: a caller may set only what a scene file may hold
 // (MechanismRanges), since what is computed from more overflows: a position of 1e300 squared in
 // the inertia shift, a timestep of 1e-300 divided into the velocity terms. Before, only
 // non-finite values were refused.
@@ -820,7 +820,7 @@ TEST(SimulationState, AppliedForcesActForOneStep) {
   EXPECT_NEAR(sim.mechanism().bodies[1].linear_velocity.y(), -dt, 1e-15);
 }
 
-// ---- issue 14: runs that come apart ----
+// ---- runs that come apart ----
 
 // The first step at which run_failure refuses a run of `steps` steps ("" if none), with the
 // mechanism's size at the start.
@@ -908,7 +908,7 @@ TEST(LdlpgsRobust, LongRunOfEveryBuiltInSceneIsFiniteOrNamesItsFailure) {
 namespace ldlpgs {
 namespace {
 
-// Issue 14, class 9 (scale): a hub carrying n arms on ball joints, not shattered, makes H dense
+// Scale: a hub carrying n arms on ball joints, not shattered, makes H dense
 // (every pair of joints shares the hub). The explicit elimination game spent O(n^3) on its
 // clique (27 s for spy of 1000 arms) and the per-block kernels factored the dense front at a few
 // GFlop/s. The causes, checked here without a clock: the default ordering finds the clique's

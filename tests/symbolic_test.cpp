@@ -291,7 +291,7 @@ TEST(Symbolic, RsiStaysWithinItsBudget) {
       EXPECT_GT(runs.rsi_size(), 2 * runs.nnz_l());
     }
     // The defaults: runs up to rsi_min_entries whatever L's size, the per-entry budget above it
-    // (bcsstk13: within L's size, issue 13's target).
+    // (bcsstk13: within L's size, the target).
     const Symbolic d = Symbolic::analyze(m.a, blocks, o);
     const double allowed = std::max(static_cast<double>(d.nnz_l()), static_cast<double>(SymbolicOptions{}.rsi_min_entries));
     EXPECT_LE(static_cast<double>(d.rsi_size()), allowed);
