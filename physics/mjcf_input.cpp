@@ -39,7 +39,7 @@ constexpr size_t kMaxMjcfBytes = size_t{1} << 26;
 // "": MuJoCo then names what is missing.
 std::string read_mjcf_text(const std::string& file) {
   std::error_code ec;
-  if (!std::filesystem::is_directory(file, ec) && !std::filesystem::exists(file, ec)) return {};
+  if (!std::filesystem::exists(file, ec)) return {};
   FileChunks chunks(file);
   std::string text;
   while (chunks.append_to(text)) {

@@ -449,7 +449,7 @@ Mechanism parse_scene(const json& scene, const std::string& file) {
       m.add_constraint(std::move(c));
     }
   }
-  check_ranges(m, source);
+  check_ranges(m, file);  // (which quotes it through printable())
   return m;
 }
 

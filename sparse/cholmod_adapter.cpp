@@ -1,9 +1,7 @@
 #include "ldlpgs/sparse/cholmod_adapter.h"
 
 #include <cassert>
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -70,8 +68,7 @@ SymmetricCsc from_cholmod(const cholmod_sparse& a, Cholmod& cm) {
 }
 
 SymmetricCsc cholmod_read(const std::string& path, Cholmod& cm) {
-  FILE* f = std::fopen(path.c_str(), "r");
-  if (!f) throw InputError(printable(path) + ": cannot open file: " + std::strerror(errno));
+  FILE* f = open_input(path);
   cholmod_sparse* s = cholmod_read_sparse(f, cm.common());
   std::fclose(f);
   if (!s) throw InputError(path + ": CHOLMOD's reader refused the file");

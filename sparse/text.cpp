@@ -38,13 +38,16 @@ std::string format_number(double x) {
   return std::string(buffer, result.ptr);
 }
 
-FileChunks::FileChunks(const std::string& path) : name_(printable(path)) {
+std::FILE* open_input(const std::string& path) {
   // A directory opens with fopen on Linux and fails only on read (or reads as empty).
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(cat(name_, ": cannot read: it is a directory"));
-  f_ = std::fopen(path.c_str(), "rb");
-  if (!f_) throw InputError(cat(name_, ": cannot open file: ", std::strerror(errno)));
+  if (std::filesystem::is_directory(path, ec)) throw InputError(cat(printable(path), ": cannot read: it is a directory"));
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw InputError(cat(printable(path), ": cannot open file: ", std::strerror(errno)));
+  return f;
 }
+
+FileChunks::FileChunks(const std::string& path) : f_(open_input(path)), name_(printable(path)) {}
 
 FileChunks::~FileChunks() {
   if (f_) std::fclose(f_);

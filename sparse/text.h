@@ -28,9 +28,11 @@ std::string cat(const Parts&... parts) {
 // The shortest text that reads back as x ("0.1", "1e-320", "inf", "nan").
 std::string format_number(double x);
 
-// A file read kChunk bytes at a time. Every failure is an InputError naming the file through
-// printable(): "PATH: cannot open file: REASON", "PATH: cannot read: it is a directory",
-// "PATH: cannot read: read error".
+// The file opened for reading ("rb"), or an InputError naming it through printable():
+// "PATH: cannot read: it is a directory" or "PATH: cannot open file: REASON".
+std::FILE* open_input(const std::string& path);
+
+// A file read kChunk bytes at a time (open_input; a read error is "PATH: cannot read: read error").
 class FileChunks {
  public:
   static constexpr size_t kChunk = size_t{1} << 16;

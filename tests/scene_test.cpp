@@ -870,6 +870,23 @@ TEST(SceneBadInput, DuplicateKeyInAFile) {
   EXPECT_NE(top.find(": duplicate key \"bodies\""), std::string::npos) << top;
 }
 
+// The file name is escaped once in every message, a value out of range included (a backslash
+// shows as \\, not \\\\).
+TEST(SceneBadInput, FileNameIsEscapedOnceInARangeError) {
+  json s = valid();
+  s["bodies"][2]["mass"] = 1e60;
+  const std::string path = temp_file("back\\slash.json", s.dump());
+  std::string message;
+  try {
+    load_scene(path);
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  const std::string escaped = path.substr(0, path.find('\\')) + "\\\\" + path.substr(path.find('\\') + 1);
+  EXPECT_EQ(message.rfind(escaped + ": ", 0), 0u) << message;
+  EXPECT_NE(message.find("mass 1e+60"), std::string::npos) << message;
+}
+
 TEST(SceneBadInput, UnreadableFile) {
   const std::string missing = kTestData + "/scenes/no_such_file.json";
   EXPECT_EQ(file_error_of(missing), missing + ": cannot open file: No such file or directory");
