@@ -52,22 +52,35 @@ int Mechanism::num_dynamic_bodies() const {
   return n;
 }
 
+namespace {
+// Two distinct bodies of m (the builders below, like add_constraint, assert it).
+[[maybe_unused]] bool body_pair(const Mechanism& m, int a, int b) {
+  const int n = static_cast<int>(m.bodies.size());
+  return a >= 0 && a < n && b >= 0 && b < n && a != b;
+}
+}  // namespace
+
 Constraint Mechanism::ball(int a, int b, const Eigen::Vector3d& anchor) const {
+  assert(body_pair(*this, a, b));
   return make_ball(a, bodies[a], b, bodies[b], anchor);
 }
 Constraint Mechanism::axial(ConstraintType type, int a, int b, const Eigen::Vector3d& anchor,
                             const Eigen::Vector3d& axis) const {
+  assert(body_pair(*this, a, b));
   return make_axial(type, a, bodies[a], b, bodies[b], anchor, axis);
 }
 Constraint Mechanism::distance(ConstraintType type, int a, int b, const Eigen::Vector3d& anchor_on_a,
                                const Eigen::Vector3d& anchor_on_b, double length) const {
+  assert(body_pair(*this, a, b));
   return make_distance(type, a, bodies[a], b, bodies[b], anchor_on_a, anchor_on_b, length);
 }
 Constraint Mechanism::angular_limit(int a, int b, const Eigen::Vector3d& axis, double min, double max) const {
+  assert(body_pair(*this, a, b));
   return make_angular_limit(a, bodies[a], b, bodies[b], axis, min, max);
 }
 Constraint Mechanism::positional_limit(int a, int b, const Eigen::Vector3d& anchor, const Eigen::Vector3d& axis,
                                        double min, double max) const {
+  assert(body_pair(*this, a, b));
   return make_positional_limit(a, bodies[a], b, bodies[b], anchor, axis, min, max);
 }
 
