@@ -59,7 +59,7 @@ std::string find_python() {
   return "";
 }
 
-// Where the report's scripts (papers/*.py) and default matrices are: installed beside the
+// Where the report's scripts (papers/scripts/*.py) and default matrices are: installed beside the
 // program (PREFIX/share/ldlpgs/{scripts,matrices} for PREFIX/bin/ldlpgs), else in the source tree
 // it was built from (`source`, empty when installed).
 struct ReportFiles {
@@ -435,8 +435,8 @@ class Report {
     std::fprintf(md_, "Per mechanism, the talk's figure / ours (papers/talk-figures.md says how each is measured "
                  "and why they differ); made by `python3 papers/scripts/talk_figures.py build/bin/ldlpgs --figures "
                  "%s/figures`.\n\n%s\n",
-                 o_.out.c_str(), read_file(table).c_str());
-    std::fprintf(stdout, "\nThe talk's figures / ours:\n%s", read_file(table).c_str());
+                 o_.out.c_str(), text.c_str());
+    std::fprintf(stdout, "\nThe talk's figures / ours:\n%s", text.c_str());
     for (const char* name : {"mechanism-50", "mechanism-50-shattered", "tracked-vehicle", "multi-wheeled-vehicle",
                              "multi-wheeled-vehicle-10-shards", "multi-wheeled-vehicle-shattered"})
       std::fprintf(md_, "![%s](figures/%s.png)\n\n", name, name);
