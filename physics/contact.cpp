@@ -2,7 +2,6 @@
 #include "ldlpgs/physics/contact.h"
 
 #include <algorithm>
-#include <tuple>
 
 #include <Eigen/Geometry>
 
@@ -12,8 +11,7 @@ namespace {
 
 using Eigen::Vector3d;
 
-auto pair_key(const Contact& c) { return std::make_tuple(c.body_a, c.body_b, c.shape_a, c.shape_b); }
-auto pair_key(const ContactPoint& p) { return std::make_tuple(p.body_a, p.body_b, p.shape_a, p.shape_b); }
+ContactKey key_of(const ContactPoint& p, int index) { return {p.body_a, p.body_b, p.shape_a, p.shape_b, index}; }
 
 // The contact of a detected point: witness points depth/2 either side of the point along n, a
 // tangent frame built from n (Eigen's unitOrthogonal: deterministic), pair rules of shape.h.
@@ -74,27 +72,23 @@ ConstraintRows evaluate(const Contact& contact, const RigidBody& a, const RigidB
 }
 
 void make_contacts(const Mechanism& m, std::span<const ContactPoint> points, std::span<const Contact> previous,
-                   double match_distance, std::vector<int>* order, std::vector<Contact>* out) {
+                   double match_distance, std::vector<ContactKey>* keys, std::vector<Contact>* out) {
   out->clear();
-  order->resize(previous.size());
-  for (size_t i = 0; i < previous.size(); ++i) (*order)[i] = static_cast<int>(i);
-  std::sort(order->begin(), order->end(), [&](int x, int y) { return pair_key(previous[x]) < pair_key(previous[y]); });
+  keys->resize(previous.size());
+  for (size_t i = 0; i < previous.size(); ++i) (*keys)[i] = key_of(previous[i].point, static_cast<int>(i));
+  std::sort(keys->begin(), keys->end());
   for (const ContactPoint& p : points) {
     Contact c = contact_of(m, p);
-    const auto [first, last] = std::equal_range(
-        order->begin(), order->end(), pair_key(p), [&](const auto& x, const auto& y) {
-          if constexpr (std::is_same_v<std::decay_t<decltype(x)>, int>) return pair_key(previous[x]) < y;
-          else return x < pair_key(previous[y]);
-        });
+    const ContactKey key = key_of(p, -1);
     const Contact* best = nullptr;
     double best_distance = match_distance;
-    for (auto it = first; it != last; ++it) {
+    for (auto it = std::lower_bound(keys->begin(), keys->end(), key); it != keys->end() && it->same_pair(key); ++it) {
       // along the contact plane only: where a detector puts a point across the gap varies
-      const Vector3d diff = previous[*it].anchor_a - c.anchor_a, n = c.frame_a.col(2);
+      const Vector3d diff = previous[it->index].anchor_a - c.anchor_a, n = c.frame_a.col(2);
       const double distance = (diff - n.dot(diff) * n).norm();
       if (distance <= best_distance) {
         best_distance = distance;
-        best = &previous[*it];
+        best = &previous[it->index];
       }
     }
     if (best) inherit(m, *best, &c);

@@ -79,10 +79,26 @@ struct Contact {
 // (t turns with body a: dt/dt = w_a x t). The friction rows' c is the tangential drift, unused.
 ConstraintRows evaluate(const Contact& contact, const RigidBody& a, const RigidBody& b);
 
+// A contact's pair (bodies, then shapes) and its place in a list: what the matching sorts, so that
+// it moves 24 bytes per contact rather than a Contact.
+struct ContactKey {
+  int body_a = -1, body_b = -1, shape_a = -1, shape_b = -1;
+  int index = -1;
+  bool same_pair(const ContactKey& o) const {
+    return body_a == o.body_a && body_b == o.body_b && shape_a == o.shape_a && shape_b == o.shape_b;
+  }
+  friend bool operator<(const ContactKey& x, const ContactKey& y) {
+    if (x.body_a != y.body_a) return x.body_a < y.body_a;
+    if (x.body_b != y.body_b) return x.body_b < y.body_b;
+    if (x.shape_a != y.shape_a) return x.shape_a < y.shape_a;
+    return x.shape_b < y.shape_b;
+  }
+};
+
 // This step's contacts from the detected points, matched against last step's (`previous`):
 // a matched contact keeps its impulse (friction re-expressed in the new tangents) and its count
-// of pushing steps. `order` is scratch. Allocates nothing once the vectors have grown.
+// of pushing steps. `keys` is scratch. Allocates nothing once the vectors have grown.
 void make_contacts(const Mechanism& mechanism, std::span<const ContactPoint> points, std::span<const Contact> previous,
-                   double match_distance, std::vector<int>* order, std::vector<Contact>* out);
+                   double match_distance, std::vector<ContactKey>* keys, std::vector<Contact>* out);
 
 }  // namespace ldlpgs

@@ -4,6 +4,7 @@
 #include <cassert>
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <new>
@@ -371,21 +372,12 @@ void Simulation::detect_contacts() {
   const ContactOptions& o = options_.contacts;
   collision_->detect(mechanism_, o.margin, mechanism_.timestep, &points_);
   std::swap(contacts_, previous_contacts_);
-  make_contacts(mechanism_, points_, previous_contacts_, o.match_distance, &contact_order_, &contacts_);
+  make_contacts(mechanism_, points_, previous_contacts_, o.match_distance, &contact_keys_, &contacts_);
   const bool factoring = options_.solver.kind == SolverKind::ldl_pgs && o.factor_after > 0;
   for (Contact& c : contacts_)
     c.factored = factoring && c.pushing_steps >= o.factor_after &&
                  (o.factor_jointed || !(jointed_[c.body_a] || jointed_[c.body_b]));
-  // Factored contacts first, in the order of their bodies, so that the same set of touching
-  // pairs is the same blocks whatever order the detector found them in.
-  // (std::sort on a total order: stable_sort would allocate its buffer every step)
-  for (size_t i = 0; i < contacts_.size(); ++i) contacts_[i].point_index = static_cast<int>(i);
-  std::sort(contacts_.begin(), contacts_.end(), [](const Contact& x, const Contact& y) {
-    if (x.factored != y.factored) return x.factored;
-    if (x.factored && std::make_pair(x.body_a, x.body_b) != std::make_pair(y.body_a, y.body_b))
-      return std::make_pair(x.body_a, x.body_b) < std::make_pair(y.body_a, y.body_b);
-    return x.point_index < y.point_index;
-  });
+  order_factored_first();
   system_.truncate(joint_blocks_);
   for (const Contact& c : contacts_) {
     const int normal = system_.add_block(1, column_[c.body_a], column_[c.body_b]);
@@ -402,6 +394,25 @@ void Simulation::detect_contacts() {
     const int first = system_.blocks[joint_blocks_ + 2 * i].position;
     for (int r = 0; r < 3; ++r) lambda_[first + r] = contacts_[i].impulse[r];
   }
+}
+
+// Factored contacts first, in the order of their bodies, so that the same set of touching pairs
+// is the same blocks whatever order the detector found them in; the rest in the detector's order.
+// The permutation is sorted as small keys and applied through previous_contacts_, no longer
+// needed once matched (std::sort on a total order: stable_sort would allocate every step).
+void Simulation::order_factored_first() {
+  const int n = static_cast<int>(contacts_.size());
+  contact_keys_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    Contact& c = contacts_[i];
+    c.point_index = i;
+    // (unfactored: after every body, then by index)
+    contact_keys_[i] = c.factored ? ContactKey{c.body_a, c.body_b, 0, i, i} : ContactKey{INT_MAX, 0, 0, i, i};
+  }
+  std::sort(contact_keys_.begin(), contact_keys_.end());
+  previous_contacts_.resize(n);
+  for (int i = 0; i < n; ++i) previous_contacts_[i] = contacts_[contact_keys_[i].index];
+  std::swap(contacts_, previous_contacts_);
 }
 
 // The contacts' rows at the current pose into system_: J (with_jacobian: the velocity level, or

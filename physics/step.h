@@ -182,6 +182,7 @@ class Simulation {
   void restore_pose();
   void make_projector();                    // projector_, when the solver has no factor to reuse
   void detect_contacts();                   // this step's contacts, their blocks and warm start
+  void order_factored_first();              // ... its contacts reordered
   double contact_rows(bool velocity, bool with_jacobian);  // their rows at the current pose (velocity or position level)
   void keep_contact_impulses();             // lambda into the contacts, for the next step
   double penetration_max() const;
@@ -210,8 +211,8 @@ class Simulation {
   std::vector<char> jointed_;                  // the body has an equality constraint (size bodies)
   std::unique_ptr<CollisionWorld> collision_;  // null while no body has a shape
   std::vector<ContactPoint> points_;           // detected this step
-  std::vector<Contact> contacts_, previous_contacts_;
-  std::vector<int> contact_order_;             // make_contacts' scratch
+  std::vector<Contact> contacts_, previous_contacts_;  // (previous: also the reordering's buffer)
+  std::vector<ContactKey> contact_keys_;       // make_contacts' and the reordering's scratch
 };
 
 }  // namespace ldlpgs

@@ -18,26 +18,14 @@ void pgs_sweep(const System& system, const RowCache& cache, std::span<double> la
 
 namespace {
 
-// H_xy = J_x W J_y^T for rows x, y of block k (the row cache holds W J^T).
-double row_product(const System& system, const RowCache& cache, int k, int x, int y) {
-  const RowBlock& b = system.blocks[k];
-  const double* wj = cache.wjt.data() + 12 * static_cast<size_t>(b.position + y);
-  double s = 0;
-  if (b.column_a >= 0)
-    for (int c = 0; c < 6; ++c) s += system.cell_a(k)[6 * x + c] * wj[c];
-  if (b.column_b >= 0)
-    for (int c = 0; c < 6; ++c) s += system.cell_b(k)[6 * x + c] * wj[6 + c];
-  return s;
-}
-
 // argmin over |x| <= r of (1/2) x^T K x + b^T x for a symmetric positive definite 2x2 K: the
 // unconstrained -K^-1 b if it lies in the disk, else x(nu) = -(K + nu I)^-1 b with |x(nu)| = r,
 // nu > 0 (the trust-region subproblem), by Newton's method on 1/|x(nu)| - 1/r in K's eigenbasis
 // (Moré and Sorensen, 1983: that function is nearly linear in nu, so a few iterations do).
 void disk_minimizer(double k11, double k12, double k22, const double b[2], double r, double x[2]) {
-  const double det = k11 * k22 - k12 * k12;
-  x[0] = -(k22 * b[0] - k12 * b[1]) / det;
-  x[1] = -(k11 * b[1] - k12 * b[0]) / det;
+  const double inverse_det = 1 / (k11 * k22 - k12 * k12);  // (K's alone: off the chain through b)
+  x[0] = -(k22 * b[0] - k12 * b[1]) * inverse_det;
+  x[1] = -(k11 * b[1] - k12 * b[0]) * inverse_det;
   if (x[0] * x[0] + x[1] * x[1] <= r * r) return;
   if (r <= 0) {
     x[0] = x[1] = 0;
@@ -89,24 +77,44 @@ void pgs_friction_disk(const System& system, const RowCache& cache, int k, std::
   // with K = the block's N_k + E diag(N_k), g = J dV - R + E diag(N_k) lambda, |x| <= mu lambda_n:
   // maximal dissipation, the friction opposing the slip that remains (a per-row step and a
   // rescale would bend the friction toward the stiffer direction of K).
+  // J_0 dV, J_1 dV and K's coupling J_0 W J_1^T in one pass over the block's columns.
+  const double* w0 = cache.wjt.data() + 12 * static_cast<size_t>(i);
+  const double* w1 = w0 + 12;
+  double* va = b.column_a >= 0 ? dv.data() + 6 * b.column_a : nullptr;
+  double* vb = b.column_b >= 0 ? dv.data() + 6 * b.column_b : nullptr;
+  const double *ja = system.cell_a(k), *jb = ja + 12;
+  double jv0 = 0, jv1 = 0, k12 = 0;
+  if (va) {
+    jv0 += dot6(ja, va);
+    jv1 += dot6(ja + 6, va);
+    k12 += dot6(ja, w1);
+  }
+  if (vb) {
+    jv0 += dot6(jb, vb);
+    jv1 += dot6(jb + 6, vb);
+    k12 += dot6(jb, w1 + 6);
+  }
   const double eps0 = system.compliance[i], eps1 = system.compliance[i + 1];
   const double k11 = cache.diag[i] * (1 + eps0), k22 = cache.diag[i + 1] * (1 + eps1);
-  const double k12 = row_product(system, cache, k, 0, 1);
   if (!(k11 > 0 && k22 > 0 && k11 * k22 - k12 * k12 > 1e-14 * k11 * k22)) {  // (a degenerate block: row by row)
     pgs_row(system, cache, k, 0, lambda, dv);
     pgs_row(system, cache, k, 1, lambda, dv);
     return;
   }
   const double l0 = lambda[i], l1 = lambda[i + 1];
-  const double g0 = row_times(system, k, 0, dv) - system.rhs[i] + eps0 * cache.diag[i] * l0;
-  const double g1 = row_times(system, k, 1, dv) - system.rhs[i + 1] + eps1 * cache.diag[i + 1] * l1;
+  const double g0 = jv0 - system.rhs[i] + eps0 * cache.diag[i] * l0;
+  const double g1 = jv1 - system.rhs[i + 1] + eps1 * cache.diag[i + 1] * l1;
   const double bvec[2] = {g0 - (k11 * l0 + k12 * l1), g1 - (k12 * l0 + k22 * l1)};
   double x[2];
   disk_minimizer(k11, k12, k22, bvec, radius, x);
   lambda[i] = x[0];
   lambda[i + 1] = x[1];
-  add_row_impulse(system, cache, k, 0, x[0] - l0, dv);
-  add_row_impulse(system, cache, k, 1, x[1] - l1, dv);
+  // dV += W J_0^T dx_0 + W J_1^T dx_1, each column's two terms in that order
+  const double d0 = x[0] - l0, d1 = x[1] - l1;
+  if (va)
+    for (int c = 0; c < 6; ++c) va[c] = va[c] + w0[c] * d0 + w1[c] * d1;
+  if (vb)
+    for (int c = 0; c < 6; ++c) vb[c] = vb[c] + w0[6 + c] * d0 + w1[6 + c] * d1;
 }
 
 void project_onto_bounds(const System& system, std::span<double> lambda) {

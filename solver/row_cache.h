@@ -17,15 +17,19 @@ struct RowCache {
   void update(const System& system);
 };
 
+// x . y over one velocity block, summed as a tree: each row of a sweep waits on the last row's
+// dV, so the sum's latency, not its flops, sets a sweep's speed (papers/physics.md, "The
+// solvers on the contact scenes").
+inline double dot6(const double* x, const double* y) {
+  return ((x[0] * y[0] + x[3] * y[3]) + (x[1] * y[1] + x[4] * y[4])) + (x[2] * y[2] + x[5] * y[5]);
+}
+
 // J_i dV for row r of block k.
 inline double row_times(const System& system, int k, int r, std::span<const double> dv) {
   const RowBlock& b = system.blocks[k];
-  double s = 0;
-  if (b.column_a >= 0)
-    for (int c = 0; c < 6; ++c) s += system.cell_a(k)[6 * r + c] * dv[6 * b.column_a + c];
-  if (b.column_b >= 0)
-    for (int c = 0; c < 6; ++c) s += system.cell_b(k)[6 * r + c] * dv[6 * b.column_b + c];
-  return s;
+  const double sa = b.column_a >= 0 ? dot6(system.cell_a(k) + 6 * r, dv.data() + 6 * b.column_a) : 0.0;
+  const double sb = b.column_b >= 0 ? dot6(system.cell_b(k) + 6 * r, dv.data() + 6 * b.column_b) : 0.0;
+  return sa + sb;
 }
 
 // dV += W J_i^T dlambda for row r of block k.
@@ -71,8 +75,8 @@ inline void pgs_row(const System& system, const RowCache& cache, int k, int r, s
   const double old = lambda[i];
   double lo, hi;
   row_bounds(system, system.blocks[k], i, lambda, &lo, &hi);
-  const double updated =
-      std::clamp(old + (system.rhs[i] - row_times(system, k, r, dv) - eps * d * old) / ((1 + eps + reg) * d), lo, hi);
+  const double inverse = 1 / ((1 + eps + reg) * d);  // (off the chain through dV: computed while J_i dV is)
+  const double updated = std::clamp(old + (system.rhs[i] - row_times(system, k, r, dv) - eps * d * old) * inverse, lo, hi);
   lambda[i] = updated;
   add_row_impulse(system, cache, k, r, updated - old, dv);
 }

@@ -171,7 +171,7 @@ TEST(Contact, RowsAreTheDerivativeOfTheirPositionErrors) {
   p.normal = Vector3d(0.2, 1, -0.1).normalized();
   p.depth = 0.01;
   std::vector<Contact> contacts;
-  std::vector<int> order;
+  std::vector<ContactKey> order;
   make_contacts(m, std::span<const ContactPoint>(&p, 1), {}, 0.02, &order, &contacts);
   ASSERT_EQ(contacts.size(), 1u);
   const ConstraintRows rows = evaluate(contacts[0], m.bodies[0], m.bodies[1]);
