@@ -36,6 +36,7 @@ struct StepArgs {
   std::string scene, solver = "ldl-pgs", ordering = "best", trace, contacts_file;
   std::string friction_cone = "disk", contact_schedule = to_string(ContactOptions{}.schedule);
   int factor_contacts_after = ContactOptions{}.factor_after;
+  double factor_contacts_mass_ratio = ContactOptions{}.factor_mass_ratio;
   std::string schedule = to_string(SolverOptions{}.schedule);
   int iterations = 10, steps = 200, post_stabilize = StepOptions{}.post_stabilize;
   bool post_stabilize_refactor = false, curvature_target = false;
@@ -78,6 +79,7 @@ StepOptions step_options(const StepArgs& a) {
     throw InputError("--friction-cone " + a.friction_cone + ": unknown (known: disk pyramid)");
   o.contacts.friction_pyramid = a.friction_cone == "pyramid";
   o.contacts.factor_after = a.factor_contacts_after;
+  o.contacts.factor_mass_ratio = a.factor_contacts_mass_ratio;
   o.contacts.schedule = schedule_option("--contact-schedule", a.contact_schedule);
   o.diagnostics = true;
   return o;
@@ -346,6 +348,10 @@ Command add_step_command(CLI::App& app) {
                   "ldl-pgs: contacts pushing this many steps in a row join the LDL^T with their normal rows (0: never, the talk's schedule)")
       ->capture_default_str()
       ->check(integer_in(0, 1000000));
+  cmd->add_option("--factor-contacts-mass-ratio", a->factor_contacts_mass_ratio,
+                  "ldl-pgs: ... only those of a body touching a body this many times heavier (0: every one)")
+      ->capture_default_str()
+      ->check(finite_in(0, 1e12));
   add_json_flag(cmd, &a->json);
   add_shatter_options(cmd, &a->shatter);
   return [a] { return run_step(*a); };

@@ -40,6 +40,11 @@ struct ContactOptions {
   // with the joints (a chain lying on the ground) and their targets disagree, so it stays a
   // projected row (papers/physics.md, "Contacts in the factor").
   bool factor_jointed = false;
+  // ... and only where PGS is slow: a contact of a body that touches a dynamic body at least this
+  // many times heavier than itself (the light box under a heavy one; PGS converges between
+  // comparable masses, and a pyramid of equal boxes stands as well without the factorization's
+  // cost). 0: every contact that qualifies above (papers/physics.md, "Contacts in the factor").
+  double factor_mass_ratio = 10;
   // ldl-pgs's schedule on a step with contacts (SolverOptions::schedule on steps without):
   // alternating the exact block and the contact rows converges where the talk's single block
   // sweep lets them feed each other (papers/physics.md, "Schedules with contacts").

@@ -233,7 +233,8 @@ Simulation::Simulation(Mechanism mechanism, const StepOptions& options)
       saved_position_(mechanism_.bodies.size()),
       saved_orientation_(mechanism_.bodies.size()),
       joint_blocks_(static_cast<int>(mechanism_.constraints.size())),
-      jointed_(mechanism_.bodies.size(), 0) {
+      jointed_(mechanism_.bodies.size(), 0),
+      carrying_(mechanism_.bodies.size(), 0) {
   for (const Constraint& c : mechanism_.constraints)
     if (is_equality(c.type)) jointed_[c.body_a] = jointed_[c.body_b] = 1;
   if (has_shapes(mechanism_)) {
@@ -373,10 +374,7 @@ void Simulation::detect_contacts() {
   collision_->detect(mechanism_, o.margin, mechanism_.timestep, &points_);
   std::swap(contacts_, previous_contacts_);
   make_contacts(mechanism_, points_, previous_contacts_, o.match_distance, &contact_keys_, &contacts_);
-  const bool factoring = options_.solver.kind == SolverKind::ldl_pgs && o.factor_after > 0;
-  for (Contact& c : contacts_)
-    c.factored = factoring && c.pushing_steps >= o.factor_after &&
-                 (o.factor_jointed || !(jointed_[c.body_a] || jointed_[c.body_b]));
+  mark_factored_contacts();
   order_factored_first();
   system_.truncate(joint_blocks_);
   for (const Contact& c : contacts_) {
@@ -394,6 +392,25 @@ void Simulation::detect_contacts() {
     const int first = system_.blocks[joint_blocks_ + 2 * i].position;
     for (int r = 0; r < 3; ++r) lambda_[first + r] = contacts_[i].impulse[r];
   }
+}
+
+// Which contacts ldl-pgs factors this step (ContactOptions: factor_after, factor_jointed,
+// factor_mass_ratio). carrying_[b]: body b touches a dynamic body factor_mass_ratio times its mass.
+void Simulation::mark_factored_contacts() {
+  const ContactOptions& o = options_.contacts;
+  const bool factoring = options_.solver.kind == SolverKind::ldl_pgs && o.factor_after > 0;
+  std::fill(carrying_.begin(), carrying_.end(), char{o.factor_mass_ratio <= 0});
+  if (factoring && o.factor_mass_ratio > 0)
+    for (const Contact& c : contacts_) {
+      const RigidBody &a = mechanism_.bodies[c.body_a], &b = mechanism_.bodies[c.body_b];
+      if (a.is_static || b.is_static) continue;
+      if (b.mass >= o.factor_mass_ratio * a.mass) carrying_[c.body_a] = 1;
+      if (a.mass >= o.factor_mass_ratio * b.mass) carrying_[c.body_b] = 1;
+    }
+  for (Contact& c : contacts_)
+    c.factored = factoring && c.pushing_steps >= o.factor_after &&
+                 (o.factor_jointed || !(jointed_[c.body_a] || jointed_[c.body_b])) &&
+                 (carrying_[c.body_a] || carrying_[c.body_b]);
 }
 
 // Factored contacts first, in the order of their bodies, so that the same set of touching pairs

@@ -182,6 +182,7 @@ class Simulation {
   void restore_pose();
   void make_projector();                    // projector_, when the solver has no factor to reuse
   void detect_contacts();                   // this step's contacts, their blocks and warm start
+  void mark_factored_contacts();            // ... which of them ldl-pgs factors
   void order_factored_first();              // ... its contacts reordered
   double contact_rows(bool velocity, bool with_jacobian);  // their rows at the current pose (velocity or position level)
   void keep_contact_impulses();             // lambda into the contacts, for the next step
@@ -209,6 +210,7 @@ class Simulation {
   // Contacts: system_'s blocks past the constraints', two per contact (normal, friction).
   int joint_blocks_ = 0;
   std::vector<char> jointed_;                  // the body has an equality constraint (size bodies)
+  std::vector<char> carrying_;                 // mark_factored_contacts' (size bodies)
   std::unique_ptr<CollisionWorld> collision_;  // null while no body has a shape
   std::vector<ContactPoint> points_;           // detected this step
   std::vector<Contact> contacts_, previous_contacts_;  // (previous: also the reordering's buffer)

@@ -274,6 +274,26 @@ TEST(ContactStep, HeavyBoxOnALightOneHoldsWithContactsInTheFactorWherePgsSinks) 
               rows.speed, rows.penetration);
 }
 
+// ldl-pgs factors the contacts of a body that carries one at least factor_mass_ratio times
+// heavier (the light box under the heavy one) and leaves a pyramid of equal boxes to PGS; with
+// the ratio 0 it factors every pushing contact.
+int factored_after(const std::string& name, double mass_ratio, int steps) {
+  StepOptions o;
+  o.contacts.factor_mass_ratio = mass_ratio;
+  Simulation sim(scene(name), o);
+  for (int s = 0; s < steps; ++s) sim.step();
+  int factored = 0;
+  for (const Contact& c : sim.contacts()) factored += c.factored;
+  return factored;
+}
+
+TEST(ContactStep, ContactsJoinTheFactorWhereAMassRatioAsksForIt) {
+  const double ratio = ContactOptions{}.factor_mass_ratio;
+  EXPECT_GT(factored_after("box-stack-1000", ratio, 10), 0);
+  EXPECT_EQ(factored_after("pyramid-10", ratio, 10), 0);
+  EXPECT_GT(factored_after("pyramid-10", 0, 10), 0);
+}
+
 TEST(ContactStep, PyramidOf55BoxesStands) {
   StepOptions o;
   o.diagnostics = true;  // (the deepest contact)
