@@ -106,9 +106,9 @@ Command add_bench_command(CLI::App& app) {
   cmd->add_option("--dense-max", o->dense_max, "Largest dimension Eigen's dense LDLT is timed on")
       ->capture_default_str()
       ->check(integer_in(0, std::numeric_limits<int>::max()));
-  cmd->add_option("--kernels", o->kernels, "Our kernels: auto (the best this CPU runs), sse2 or avx2 (factor/passes.h)")
+  cmd->add_option("--kernels", o->kernels, "Our kernels: auto (the best this CPU runs), sse2, avx2 or avx512 (factor/passes.h)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"auto", "sse2", "avx2"}));
+      ->check(CLI::IsMember({"auto", "sse2", "avx2", "avx512"}));
   cmd->add_option("--supernode-min-rows", o->symbolic.supernode_min_rows,
                   "Rows from which a run of nested pivots is one supernode (0: none)")
       ->capture_default_str()
@@ -151,6 +151,7 @@ Command add_bench_command(CLI::App& app) {
     auto ours = std::make_unique<LdlpgsSolver>(p.a, p.blocks, ordering, o->symbolic);
     const double flops = ours->symbolic().flops();
     const std::string blas = blas_in_use();  // before any timing: it may pin OpenBLAS's threads
+    if (const std::string warning = blas_core_warning(); !warning.empty()) std::fprintf(stderr, "ldlpgs bench: %s\n", warning.c_str());
     // each solver is timed for at least 0.2 s, and a large matrix's factorizations take seconds
     auto timed = [&](DirectSolver& s) {
       if (p.a.n >= kProgressDimension) progress("bench", p.name + ": " + std::string(s.name()));
@@ -173,7 +174,7 @@ Command add_bench_command(CLI::App& app) {
                           {"ordering", ordering.name}, {"chosen", ordering.chosen}, {"flops", flops}, {"gflops", number_or_null(gflops)},
                           {"symbolic_bytes", ours->symbolic().memory_bytes()},
                           {"rsi_entries", ours->symbolic().rsi_size()}, {"supernodes", ours->symbolic().num_supernodes()}, {"mapped_supernodes", mapped_supernodes(ours->symbolic())},
-                          {"blas", blas}, {"kernels", kernel_isa()}};
+                          {"blas", blas}, {"blas_core", blas_core()}, {"kernels", kernel_isa()}};
       // ours unprefixed, every other solver's fields prefixed with its name (null: not run)
       std::vector<std::string_view> names = {mine.name};
       names.insert(names.end(), direct_solver_names().begin(), direct_solver_names().end());
@@ -193,7 +194,8 @@ Command add_bench_command(CLI::App& app) {
       std::printf("%s: n = %d, %d blocks, ordering %s, %.0f flops, %d supernodes, symbolic phase holds %lld bytes\n",
                   p.name.c_str(), p.a.n, p.blocks.num_blocks(), shown_name(ordering).c_str(), flops,
                   ours->symbolic().num_supernodes(), static_cast<long long>(ours->symbolic().memory_bytes()));
-      std::printf("BLAS (ours for supernodes, CHOLMOD supernodal): %s; our kernels: %s\n", blas.c_str(), kernel_isa());
+      std::printf("BLAS (ours for supernodes, CHOLMOD supernodal): %s; OpenBLAS core: %s; our kernels: %s\n", blas.c_str(),
+                  blas_core().empty() ? "none" : blas_core().c_str(), kernel_isa());
       std::printf("%-20s %12s %12s %12s %14s %16s\n", "solver", "factor us", "solve us", "GFlop/s",
                   "backward err", "fact+solve ratio");
       for (const Timing& t : timings) {

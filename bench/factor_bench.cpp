@@ -296,6 +296,8 @@ int main(int argc, char** argv) {
   }
   if (!register_matrices()) return 1;
   benchmark::AddCustomContext("blas", blas_in_use());
+  benchmark::AddCustomContext("blas_core", blas_core().empty() ? "none" : blas_core());
+  if (const std::string warning = blas_core_warning(); !warning.empty()) std::fprintf(stderr, "factor_bench: %s\n", warning.c_str());
   benchmark::AddCustomContext("kernels", kernel_isa());
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

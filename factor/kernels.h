@@ -15,14 +15,17 @@
 // (N = 0) is unrolled by 8 with a remainder; the loops over rows of E (h) carry no pragma (begin_l).
 #define LDLPGS_UNROLL _Pragma("GCC unroll 8")
 
-// Two builds of these kernels live in the library (factor/passes.h): the x86-64 baseline (SSE2,
-// 2 lanes per vector) and, compiled with -mavx2 and LDLPGS_KERNELS_AVX2, 4 lanes, chosen at run
-// time by the CPU. Each build is its own inline namespace, so the two sets of inline functions
+// Three builds of these kernels live in the library (factor/passes.h): the x86-64 baseline (SSE2,
+// 2 lanes per vector), compiled with -mavx2 and LDLPGS_KERNELS_AVX2 4 lanes, and with -mavx512f
+// and LDLPGS_KERNELS_AVX512 8 lanes, chosen at run time by the CPU. Each build is its own inline namespace, so the two sets of inline functions
 // never merge at link time (an AVX2 copy of an inline kernel must not serve the SSE2 caller).
 // For the same reason nothing here calls a standard-library function (an unoptimized build emits
 // std::abs out of line, under the same name in both builds): compiler builtins instead, and the
 // table of fused kernels is a plain array (tests/avx2_symbols.sh checks the AVX2 object).
-#ifdef LDLPGS_KERNELS_AVX2
+#if defined(LDLPGS_KERNELS_AVX512)
+#define LDLPGS_KERNELS_ISA avx512
+#define LDLPGS_LANES 8
+#elif defined(LDLPGS_KERNELS_AVX2)
 #define LDLPGS_KERNELS_ISA avx2
 #define LDLPGS_LANES 4
 #else
@@ -132,8 +135,8 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
 }
 
 // Several at a time, one in each lane of a vector (GCC's and clang's vector extension): V of
-// kLanes lanes (2 with SSE2, the x86-64 baseline every build has; 4 in the AVX2 build), V2 for a
-// remainder of two. begin_l and end_l take kLanes rows of E, the reductions kLanes adjacent target
+// kLanes lanes (2 with SSE2, the x86-64 baseline every build has; 4 in the AVX2 build, 8 in the
+// AVX-512 one), V4 and V2 for remainders of four and two. begin_l and end_l take kLanes rows of E, the reductions kLanes adjacent target
 // columns (rows of Y), the solve's column substitutions kLanes rows of the factor below the node
 // or entries of y_k. Each lane does the scalar loop's operations in its order (a separate multiply
 // and add or subtract each, never fused: factor/CMakeLists.txt sets -ffp-contract=off), so the
@@ -144,6 +147,7 @@ inline int ldl_node(double* a, const double* floor, double* inv_d, int n) {
 inline constexpr int kLanes = LDLPGS_LANES;
 using V = double __attribute__((vector_size(8 * LDLPGS_LANES)));
 using V2 = double __attribute__((vector_size(16)));
+using V4 = double __attribute__((vector_size(32)));  // (the AVX-512 build's half pack)
 // Lane i of the pack holds x[i stride + k]; scatter writes the lanes back.
 template <class T>
 inline T gather(const double* x, int stride, int k) {
@@ -225,6 +229,10 @@ inline void begin_l(double* __restrict el, double* __restrict w, const double* _
   int r = 0;
   if constexpr (N > 0) {
     for (; r + kLanes <= h; r += kLanes) begin_pack<N, V>(el + r * N, w + r * N, node, inv_d);
+    if (kLanes > 4 && r + 4 <= h) {
+      begin_pack<N, V4>(el + r * N, w + r * N, node, inv_d);
+      r += 4;
+    }
     if (kLanes > 2 && r + 2 <= h) {
       begin_pack<N, V2>(el + r * N, w + r * N, node, inv_d);
       r += 2;
@@ -245,6 +253,10 @@ inline void end_l(double* __restrict el, const double* __restrict node, int h, i
   int r = 0;
   if constexpr (N > 0) {
     for (; r + kLanes <= h; r += kLanes) end_pack<N, V>(el + r * N, node);
+    if (kLanes > 4 && r + 4 <= h) {
+      end_pack<N, V4>(el + r * N, node);
+      r += 4;
+    }
     if (kLanes > 2 && r + 2 <= h) {
       end_pack<N, V2>(el + r * N, node);
       r += 2;
@@ -450,6 +462,10 @@ inline void forward_column(double* y, const double* yk, const double* l, const i
     double x[N];
     LDLPGS_UNROLL for (int k = 0; k < N; ++k) x[k] = yk[k];
     for (; r + kLanes <= h; r += kLanes) forward_pack<N, V>(y, x, l + r * N, rows + r);
+    if (kLanes > 4 && r + 4 <= h) {
+      forward_pack<N, V4>(y, x, l + r * N, rows + r);
+      r += 4;
+    }
     if (kLanes > 2 && r + 2 <= h) {
       forward_pack<N, V2>(y, x, l + r * N, rows + r);
       r += 2;

@@ -36,14 +36,22 @@ std::string FactorInfo::message() const {
 }
 
 namespace {
-#ifdef LDLPGS_HAVE_AVX2_PASSES
 // (__builtin_cpu_init: the first call may come from a static initializer, before libgcc's.)
+#ifdef LDLPGS_HAVE_AVX2_PASSES
 bool cpu_has_avx2() {
   __builtin_cpu_init();
   return __builtin_cpu_supports("avx2");
 }
 #else
 bool cpu_has_avx2() { return false; }
+#endif
+#ifdef LDLPGS_HAVE_AVX512_PASSES
+bool cpu_has_avx512() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx512f");
+}
+#else
+bool cpu_has_avx512() { return false; }
 #endif
 const passes::Passes* best_passes() {
 #ifdef LDLPGS_HAVE_AVX2_PASSES
@@ -78,8 +86,15 @@ void set_kernel_isa(const std::string& isa) {
 #else
     throw ArgumentError("kernels: this build has no AVX2 kernels");
 #endif
+  } else if (isa == "avx512") {
+#ifdef LDLPGS_HAVE_AVX512_PASSES
+    if (!cpu_has_avx512()) throw ArgumentError("kernels: this CPU has no AVX-512F");
+    current_passes() = &passes::kAvx512;
+#else
+    throw ArgumentError("kernels: this build has no AVX-512 kernels");
+#endif
   } else {
-    throw ArgumentError("kernels: unknown '" + isa + "' (auto, sse2, avx2)");
+    throw ArgumentError("kernels: unknown '" + isa + "' (auto, sse2, avx2, avx512)");
   }
 }
 

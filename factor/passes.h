@@ -1,9 +1,9 @@
 #pragma once
 // The numeric phase's three passes over the supernodes: the elimination, and the solve's forward
 // and backward substitutions, each a straight walk over Steps calling the kernels of kernels.h.
-// They are compiled twice (passes.inc): for the x86-64 baseline (SSE2, kernels of 2 lanes) and
-// with -mavx2 (4 lanes; its solve is the baseline's, passes_avx2.cpp), and Numeric picks one per
-// call from the CPU (kernel_isa()). The AVX2 elimination was 8-31 % faster than the SSE2 one on
+// They are compiled three times (passes.inc): for the x86-64 baseline (SSE2, kernels of 2 lanes),
+// with -mavx2 (4 lanes; its solve is the baseline's, passes_avx2.cpp) and with -mavx512f (8 lanes,
+// passes_avx512.cpp), and Numeric picks one per call from the CPU (kernel_isa()). The AVX2 elimination was 8-31 % faster than the SSE2 one on
 // factor_bench's mechanisms on an AMD EPYC (papers/factor.md "Four lanes with AVX2"); both give
 // the same values bit for bit (kernels.h), which numeric_test checks on every case of its harness.
 //
@@ -75,7 +75,7 @@ using FloorsFn = void (*)(const double* diag, int n, double zero_pivot, double l
 using InertiaFn = int (*)(const double* inv_d, const double* diag, int rows, double& largest);
 
 struct Passes {
-  const char* isa;  // "sse2" or "avx2"
+  const char* isa;  // "sse2", "avx2" or "avx512"
   EliminateFn eliminate;
   SolveFn forward, backward;
   ScatterFn scatter;
@@ -91,6 +91,9 @@ void forward_sse2(const Factor& f, double* w);
 void backward_sse2(const Factor& f, double* w);
 #ifdef LDLPGS_HAVE_AVX2_PASSES
 extern const Passes kAvx2;
+#endif
+#ifdef LDLPGS_HAVE_AVX512_PASSES
+extern const Passes kAvx512;
 #endif
 
 }  // namespace ldlpgs::passes

@@ -10,6 +10,7 @@
 #include <cassert>
 #include <cstdlib>
 #include <stdexcept>
+#include <string_view>
 #include <string>
 #include <vector>
 
@@ -290,6 +291,48 @@ std::string find_blas() {
 std::string blas_in_use() {
   static const std::string blas = find_blas() + openmp_limit();
   return blas;
+}
+
+std::string blas_core() {
+  const auto corename = global_function<char*()>("openblas_get_corename");
+  return corename == nullptr ? "" : corename();
+}
+
+namespace {
+// The widest vectors an OpenBLAS core type's kernels use: 3 AVX-512, 2 AVX2, 1 AVX, 0 older
+// (OpenBLAS's DYNAMIC_ARCH names, driver/others/dynamic.c); -1 for a name not listed here.
+int core_vector_level(std::string_view core) {
+  for (std::string_view name : {"SkylakeX", "Cooperlake", "SapphireRapids"})
+    if (core == name) return 3;
+  for (std::string_view name : {"Haswell", "Zen", "Excavator"})
+    if (core == name) return 2;
+  for (std::string_view name : {"Sandybridge", "Bulldozer", "Piledriver", "Steamroller"})
+    if (core == name) return 1;
+  for (std::string_view name : {"Prescott", "Core2", "Penryn", "Dunnington", "Nehalem", "Atom", "Athlon", "Opteron",
+                                "Opteron(SSE3)", "Barcelona", "Bobcat", "Nano", "Katmai", "Coppermine", "Northwood", "Banias"})
+    if (core == name) return 0;
+  return -1;
+}
+
+int cpu_vector_level() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx512f")) return 3;
+  if (__builtin_cpu_supports("avx2")) return 2;
+  if (__builtin_cpu_supports("avx")) return 1;
+#endif
+  return 0;
+}
+}  // namespace
+
+std::string blas_core_warning() {
+  const std::string core = blas_core();
+  const int level = core_vector_level(core), cpu = cpu_vector_level();
+  if (core.empty() || level < 0 || level >= cpu) return "";
+  static constexpr const char* kLevel[] = {"SSE", "AVX", "AVX2", "AVX-512"};
+  return "OpenBLAS runs its " + core + " kernels (" + kLevel[level] + ") on a CPU with " + kLevel[cpu] +
+         ": CHOLMOD supernodal and our supernodes are slower than they could be; set OPENBLAS_CORETYPE (e.g. " +
+         (cpu == 3 ? "SkylakeX" : cpu == 2 ? "Haswell" : "Sandybridge") + ") for every solver of a comparison";
 }
 
 void limit_openmp_to_one_thread(char** argv) {

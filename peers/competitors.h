@@ -56,6 +56,13 @@ std::span<const std::string_view> direct_solver_names();
 // limit_openmp_to_one_thread). Computed once; "dgemm_ not found" when no BLAS is loaded.
 std::string blas_in_use();
 
+// OpenBLAS's kernels for this process (openblas_get_corename(): "Haswell", "SkylakeX", ...; ""
+// for another BLAS), and a one-line warning when they are older than the CPU (Prescott's SSE3 on
+// a CPU with AVX-512, as OpenBLAS 0.3.21 does on CPUs it does not know), "" otherwise.
+// OPENBLAS_CORETYPE pins them (papers/factor.md, "Which BLAS, and which of its kernels").
+std::string blas_core();
+std::string blas_core_warning();
+
 // For the programs that time CHOLMOD (ldlpgs bench, factor_bench), first thing in main: where
 // libgomp is loaded with a thread limit above 1 and OMP_THREAD_LIMIT is not set, re-executes the
 // program (/proc/self/exe, the same argv) with OMP_THREAD_LIMIT=1, so that every solver runs on
