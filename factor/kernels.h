@@ -229,10 +229,11 @@ inline void begin_l(double* __restrict el, double* __restrict w, const double* _
   int r = 0;
   if constexpr (N > 0) {
     for (; r + kLanes <= h; r += kLanes) begin_pack<N, V>(el + r * N, w + r * N, node, inv_d);
-    if (kLanes > 4 && r + 4 <= h) {
-      begin_pack<N, V4>(el + r * N, w + r * N, node, inv_d);
-      r += 4;
-    }
+    if constexpr (kLanes > 4)
+      if (r + 4 <= h) {
+        begin_pack<N, V4>(el + r * N, w + r * N, node, inv_d);
+        r += 4;
+      }
     if (kLanes > 2 && r + 2 <= h) {
       begin_pack<N, V2>(el + r * N, w + r * N, node, inv_d);
       r += 2;
@@ -253,10 +254,11 @@ inline void end_l(double* __restrict el, const double* __restrict node, int h, i
   int r = 0;
   if constexpr (N > 0) {
     for (; r + kLanes <= h; r += kLanes) end_pack<N, V>(el + r * N, node);
-    if (kLanes > 4 && r + 4 <= h) {
-      end_pack<N, V4>(el + r * N, node);
-      r += 4;
-    }
+    if constexpr (kLanes > 4)
+      if (r + 4 <= h) {
+        end_pack<N, V4>(el + r * N, node);
+        r += 4;
+      }
     if (kLanes > 2 && r + 2 <= h) {
       end_pack<N, V2>(el + r * N, node);
       r += 2;
@@ -462,10 +464,11 @@ inline void forward_column(double* y, const double* yk, const double* l, const i
     double x[N];
     LDLPGS_UNROLL for (int k = 0; k < N; ++k) x[k] = yk[k];
     for (; r + kLanes <= h; r += kLanes) forward_pack<N, V>(y, x, l + r * N, rows + r);
-    if (kLanes > 4 && r + 4 <= h) {
-      forward_pack<N, V4>(y, x, l + r * N, rows + r);
-      r += 4;
-    }
+    if constexpr (kLanes > 4)
+      if (r + 4 <= h) {
+        forward_pack<N, V4>(y, x, l + r * N, rows + r);
+        r += 4;
+      }
     if (kLanes > 2 && r + 2 <= h) {
       forward_pack<N, V2>(y, x, l + r * N, rows + r);
       r += 2;
@@ -475,16 +478,21 @@ inline void forward_column(double* y, const double* yk, const double* l, const i
 }
 
 // Back substitution through pivot k's column: y_k -= L^T y[rows], row by row in order; with N
-// fixed y_k is held in registers, kLanes of its entries per vector, then a pair, then one.
+// fixed y_k is held in registers, kLanes of its entries per vector, then four (8 lanes), a pair,
+// one.
 template <int N>
 inline void backward_column(const double* y, double* yk, const double* l, const int* rows, int h, int n) {
   if constexpr (N > 1) {
-    constexpr int P = N / kLanes, Q = N % kLanes >= 2, R = N % 2;  // packs, a pair, a last entry
+    // packs, a quad, a pair, a last entry, and where the quad and the pair start
+    constexpr int P = N / kLanes, Q4 = kLanes > 4 && N % kLanes >= 4, Q = N % kLanes - 4 * Q4 >= 2, R = N % 2;
+    constexpr int at4 = kLanes * P, at2 = at4 + 4 * Q4;
     V x[P > 0 ? P : 1];
+    V4 x4 = {};
     V2 x2 = {};
     double last = R ? yk[N - 1] : 0;
     LDLPGS_UNROLL for (int p = 0; p < P; ++p) __builtin_memcpy(&x[p], yk + kLanes * p, sizeof x[p]);
-    if (Q) __builtin_memcpy(&x2, yk + kLanes * P, sizeof x2);
+    if constexpr (Q4) __builtin_memcpy(&x4, yk + at4, sizeof x4);
+    if (Q) __builtin_memcpy(&x2, yk + at2, sizeof x2);
     for (int r = 0; r < h; ++r) {
       const double yr = y[rows[r]];
       const double* lr = l + r * N;
@@ -493,15 +501,21 @@ inline void backward_column(const double* y, double* yk, const double* l, const 
         __builtin_memcpy(&lv, lr + kLanes * p, sizeof lv);
         x[p] -= lv * yr;
       }
+      if constexpr (Q4) {
+        V4 lv;
+        __builtin_memcpy(&lv, lr + at4, sizeof lv);
+        x4 -= lv * yr;
+      }
       if (Q) {
         V2 lv;
-        __builtin_memcpy(&lv, lr + kLanes * P, sizeof lv);
+        __builtin_memcpy(&lv, lr + at2, sizeof lv);
         x2 -= lv * yr;
       }
       if (R) last -= lr[N - 1] * yr;
     }
     LDLPGS_UNROLL for (int p = 0; p < P; ++p) __builtin_memcpy(yk + kLanes * p, &x[p], sizeof x[p]);
-    if (Q) __builtin_memcpy(yk + kLanes * P, &x2, sizeof x2);
+    if constexpr (Q4) __builtin_memcpy(yk + at4, &x4, sizeof x4);
+    if (Q) __builtin_memcpy(yk + at2, &x2, sizeof x2);
     if (R) yk[N - 1] = last;
   } else {
     const int m = N ? N : n;

@@ -12,7 +12,17 @@
 namespace ldlpgs {
 namespace {
 
-#ifdef LDLPGS_KERNELS_AVX2
+#if defined(LDLPGS_KERNELS_AVX512)
+// kernels_avx512_test.cpp: the same tests on the 8-lane kernels of the AVX-512 passes, all
+// skipped on a CPU without AVX-512F.
+static_assert(kernels::kLanes == 8);
+class RequireAvx512 : public ::testing::Environment {
+  void SetUp() override {
+    if (!__builtin_cpu_supports("avx512f")) GTEST_SKIP() << "this CPU has no AVX-512F";
+  }
+};
+const ::testing::Environment* const kRequireAvx512 = ::testing::AddGlobalTestEnvironment(new RequireAvx512);
+#elif defined(LDLPGS_KERNELS_AVX2)
 // kernels_avx2_test.cpp: the same tests on the 4-lane kernels the AVX2 passes run (passes.h),
 // all skipped on a CPU without AVX2.
 static_assert(kernels::kLanes == 4);

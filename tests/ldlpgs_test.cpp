@@ -288,6 +288,26 @@ TEST(LdlpgsBench, KernelsAreNamedAndChosen) {
 #endif
 }
 
+// OpenBLAS pinned to kernels older than the CPU (OPENBLAS_CORETYPE=Prescott, what OpenBLAS 0.3.21
+// falls back to on CPUs it does not know): bench names them and warns on stderr.
+TEST(LdlpgsBench, WarnsWhenOpenBlasRunsKernelsOlderThanTheCpu) {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  __builtin_cpu_init();
+  if (!__builtin_cpu_supports("avx")) GTEST_SKIP() << "this CPU has no AVX: Prescott's kernels are not older";
+  setenv("OPENBLAS_CORETYPE", "Prescott", 1);
+  const Result r = run("bench chain:10 --json");
+  unsetenv("OPENBLAS_CORETYPE");
+  ASSERT_EQ(r.code, 0) << r.err << r.out;
+  const std::string core = nlohmann::json::parse(r.out)["blas_core"];
+  if (core.empty()) GTEST_SKIP() << "the BLAS in use is not OpenBLAS";
+  EXPECT_EQ(core, "Prescott");
+  EXPECT_NE(r.err.find("OpenBLAS runs its Prescott kernels"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("OPENBLAS_CORETYPE"), std::string::npos) << r.err;
+#else
+  GTEST_SKIP() << "not an x86-64 build";
+#endif
+}
+
 TEST(LdlpgsStep, JsonFieldsOnABuiltInScene) {
   const Result r = run("step heavy-chain-10-1000 --steps 50 --json");
   ASSERT_EQ(r.code, 0) << r.err << r.out;
@@ -350,7 +370,7 @@ TEST(LdlpgsExport, MatrixVerifiesAgainstCholmod) {
 
 TEST(LdlpgsBadInput, UnknownScene) { expect_input_error("step no-such-scene", {"no-such-scene", "built-in"}); }
 
-TEST(LdlpgsBadInput, UnknownKernels) { expect_input_error("bench chain:10 --kernels avx512", {"--kernels", "avx512"}); }
+TEST(LdlpgsBadInput, UnknownKernels) { expect_input_error("bench chain:10 --kernels avx1024", {"--kernels", "avx1024"}); }
 TEST(LdlpgsBadInput, SmallSupernodeRowsBelowOne) {
   expect_input_error("bench chain:10 --small-supernode-max-rows 0", {"--small-supernode-max-rows", "must be an integer in [1, 1048576]"});
 }
