@@ -22,6 +22,14 @@ namespace {
 // A unit quaternion component in units of 1/32767, rounded.
 int16_t quantized(double x) { return static_cast<int16_t>(std::lround(std::clamp(x, -1.0, 1.0) * 32767)); }
 
+// What shatter() returns for a mechanism it leaves whole: every body its own shard.
+ShatterResult unshattered(const Mechanism& m) {
+  ShatterResult r;
+  r.mechanism = m;
+  for (size_t i = 0; i < m.bodies.size(); ++i) r.shards.push_back({static_cast<int>(i)});
+  return r;
+}
+
 }  // namespace
 
 Recording::Recording(const Mechanism& original, const ShatterResult& shattered, const RecordOptions& options)
@@ -74,6 +82,12 @@ Recording::Recording(const Mechanism& original, const ShatterResult& shattered, 
   separation_.push_back(0);
   penetration_.push_back(0);
   contact_start_.push_back(0);
+}
+
+Recording::Recording(const Simulation& sim, const RecordOptions& options)
+    : Recording(sim.mechanism(), unshattered(sim.mechanism()), options) {
+  last_time_ = sim.time();
+  time_[0] = static_cast<float>(sim.time());
 }
 
 void Recording::add(const Simulation& sim, const StepReport& report) {

@@ -51,6 +51,8 @@ class Recording {
   // nothing shattered, its mechanism is the original and every body its own shard). Takes the
   // initial pose as frame 0.
   Recording(const Mechanism& original, const ShatterResult& shattered, const RecordOptions& options = {});
+  // From a simulation's current state on (its mechanism as it is: no shards), frame 0 at its time.
+  explicit Recording(const Simulation& sim, const RecordOptions& options = {});
   // After every step of `sim` (stepping the shattered mechanism): a frame when its time is due.
   void add(const Simulation& sim, const StepReport& report);
   // The last state as a frame, if it is not one yet (a run's end between two due times).
