@@ -172,27 +172,41 @@ TEST(Recording, ShardsShareTheirBodysColourAndShapesStayWhereTheyWere) {
   EXPECT_EQ(shaped.joints().size(), m.constraints.size());  // the scene's joints, not the welds
 }
 
-// A contact's recorded impulse is the step's impulse on body b in the world: its part along the
-// detected normal is the normal impulse, and its length that of (normal, t1, t2).
+// A contact's recorded impulse is the step's impulse on body b in the world (on a against a
+// static b): its part along the detected normal (a to b) is the normal impulse (its negative),
+// and its length that of (normal, t1, t2). The box stack has the ground as body a of its
+// contacts, the wheeled vehicle as body b: either way the ground's impulse pushes up.
 TEST(Recording, ContactsCarryTheirImpulsesInTheWorld) {
-  const Mechanism m = scene("box-stack-1000");
-  RecordOptions o;
-  o.frame_rate = 1e6;  // every step a frame
-  Recording recording(m, whole(m), o);
-  Simulation sim(m, options());
-  for (int s = 0; s < 30; ++s) recording.add(sim, sim.step());
-  const int f = recording.frames() - 1;
-  const uint32_t first = recording.contact_start()[f], last = recording.contact_start()[f + 1];
-  ASSERT_EQ(last - first, sim.contacts().size());
-  ASSERT_GT(last - first, 0u);
-  for (uint32_t k = first; k < last; ++k) {
-    const Contact& c = sim.contacts()[k - first];
-    const float* x = &recording.contacts()[6 * k];
-    const Eigen::Vector3d point(x[0], x[1], x[2]), impulse(x[3], x[4], x[5]);
-    EXPECT_LT((point - c.point.position).norm(), 1e-6);
-    EXPECT_NEAR(impulse.dot(c.point.normal), c.impulse[0], 1e-5 * (1 + std::abs(c.impulse[0])));
-    EXPECT_NEAR(impulse.norm(), Eigen::Vector3d(c.impulse[0], c.impulse[1], c.impulse[2]).norm(), 1e-5 * (1 + impulse.norm()));
+  int static_a = 0, static_b = 0;  // contacts with the ground as body a, as body b
+  for (const char* name : {"box-stack-1000", "multi-wheeled-vehicle-on-ground"}) {
+    SCOPED_TRACE(name);
+    const Mechanism m = scene(name);
+    RecordOptions o;
+    o.frame_rate = 1e6;  // every step a frame
+    Recording recording(m, whole(m), o);
+    Simulation sim(m, options());
+    for (int s = 0; s < 30; ++s) recording.add(sim, sim.step());
+    const int f = recording.frames() - 1;
+    const uint32_t first = recording.contact_start()[f], last = recording.contact_start()[f + 1];
+    ASSERT_EQ(last - first, sim.contacts().size());
+    ASSERT_GT(last - first, 0u);
+    double up = 0;  // the ground's impulses on the dynamic bodies along -gravity
+    for (uint32_t k = first; k < last; ++k) {
+      const Contact& c = sim.contacts()[k - first];
+      const float* x = &recording.contacts()[6 * k];
+      const Eigen::Vector3d point(x[0], x[1], x[2]), impulse(x[3], x[4], x[5]);
+      EXPECT_LT((point - c.point.position).norm(), 1e-6);
+      const bool a_static = m.bodies[c.body_a].is_static, b_static = m.bodies[c.body_b].is_static;
+      static_a += a_static;
+      static_b += b_static;
+      EXPECT_NEAR(impulse.dot(c.point.normal), (b_static ? -1 : 1) * c.impulse[0], 1e-5 * (1 + std::abs(c.impulse[0])));
+      EXPECT_NEAR(impulse.norm(), Eigen::Vector3d(c.impulse[0], c.impulse[1], c.impulse[2]).norm(), 1e-5 * (1 + impulse.norm()));
+      if (a_static || b_static) up += impulse.dot(-m.gravity.normalized());
+    }
+    EXPECT_GT(up, 0) << "the ground holds the bodies up";
   }
+  EXPECT_GT(static_a, 0);
+  EXPECT_GT(static_b, 0);
 }
 
 }  // namespace

@@ -119,10 +119,15 @@ void Recording::take_frame(const Simulation& sim) {
   time_.push_back(static_cast<float>(sim.time()));
   push_poses(m);
   for (const Contact& c : sim.contacts()) {
-    // The impulse on body b: normal along n (a to b), friction along t1, t2 (a's frame).
-    const Eigen::Vector3d local = c.frame_a.col(2) * c.impulse[0] + c.frame_a.col(0) * c.impulse[1] +
-                                  c.frame_a.col(1) * c.impulse[2];
-    const Eigen::Vector3d impulse = m.bodies[c.body_a].orientation * local;
+    // The impulse on body b: normal along n (a to b), friction along t1, t2, a frame fixed in a,
+    // taken where the step used it: turned back from a's pose now onto the detected normal (a
+    // wheel turns by w dt in the step; the shortest turn undoes a turn about an axis across n).
+    Eigen::Matrix3d frame = m.bodies[c.body_a].orientation * c.frame_a;
+    frame = Eigen::Quaterniond::FromTwoVectors(frame.col(2), c.point.normal) * frame;
+    // (against a static body, the impulse on a: the push of the ground, not into it)
+    const double sign = m.bodies[c.body_b].is_static ? -1 : 1;
+    const Eigen::Vector3d impulse =
+        sign * (frame.col(2) * c.impulse[0] + frame.col(0) * c.impulse[1] + frame.col(1) * c.impulse[2]);
     for (int d = 0; d < 3; ++d) contacts_.push_back(static_cast<float>(c.point.position[d]));
     for (int d = 0; d < 3; ++d) contacts_.push_back(static_cast<float>(impulse[d]));
   }

@@ -80,7 +80,8 @@ class Recording {
   const std::vector<float>& separation() const { return separation_; }
   const std::vector<float>& penetration() const { return penetration_; }
   // Frame f's contacts are contacts()[6 k .. 6 k + 6) for k in [contact_start()[f], contact_start()[f + 1]):
-  // the point (world, m) and the impulse the step applied to body b (world, N s).
+  // the point (world, m) and the impulse the step applied to body b, or to body a when b is
+  // static (world, N s: the push a static ground gives).
   const std::vector<uint32_t>& contact_start() const { return contact_start_; }
   const std::vector<float>& contacts() const { return contacts_; }
 
