@@ -27,10 +27,13 @@ def fail(message):
     sys.exit("view_browser_test: FAIL: " + message)
 
 
-def screenshot(chromium, page, t, png):
-    """Chromium's console lines for page#t=T, with its screenshot in png."""
+def screenshot(chromium, page, t, png, profile):
+    """Chromium's console lines for page#t=T, with its screenshot in png. WebGL without a GPU:
+    SwiftShader through ANGLE (without --enable-unsafe-swiftshader Chromium falls back to it
+    with a deprecation warning on the console)."""
     command = [chromium, "--headless", "--disable-gpu", "--no-sandbox", "--use-angle=swiftshader",
-               "--enable-unsafe-swiftshader", "--enable-logging=stderr", "--virtual-time-budget=3000",
+               "--enable-unsafe-swiftshader", f"--user-data-dir={profile}", "--no-first-run",
+               "--enable-logging=stderr", "--virtual-time-budget=3000",
                "--hide-scrollbars", f"--window-size={WINDOW[0]},{WINDOW[1]}", f"--screenshot={png}",
                f"file://{page}#t={t}"]
     run = subprocess.run(command, capture_output=True, text=True, timeout=90)
@@ -73,7 +76,7 @@ def main():
     views = {}
     for t in TIMES:
         png = os.path.join(a.work, f"t{t}.png")
-        console = screenshot(a.chromium, page, t, png)
+        console = screenshot(a.chromium, page, t, png, os.path.join(a.work, "profile"))
         checks = [line for line in console if "ldlpgs-view check:" in line]
         uncaught = [line for line in console if "Uncaught" in line]
         if uncaught:
