@@ -1,7 +1,7 @@
 """The viewer's page in a real browser: `ldlpgs view tracked-vehicle` writes it, headless Chromium
 (software WebGL, SwiftShader) opens it at two times of the run, #t=0.2 and #t=1.5, and takes a
-screenshot of each. Fails on any error the page saw (its check line, view/viewer.html) or the
-browser logged as uncaught, on a 3D view or plot that stays the background colour in the
+screenshot of each. Fails on any error the page saw (its check line, view/viewer.html), on any
+other line on the browser's console, on a 3D view or plot that stays the background colour in the
 screenshot (or the 3D view that has none of it: never rendered), and when the two times draw the
 same 3D view.
 
@@ -78,9 +78,11 @@ def main():
         png = os.path.join(a.work, f"t{t}.png")
         console = screenshot(a.chromium, page, t, png, os.path.join(a.work, "profile"))
         checks = [line for line in console if "ldlpgs-view check:" in line]
-        uncaught = [line for line in console if "Uncaught" in line]
-        if uncaught:
-            fail(f"t={t}: an uncaught error: {uncaught[0]}")
+        # Every other console line is a failure (Chromium logs every level as INFO:CONSOLE), but
+        # for SwiftShader's performance note on the check's readPixels.
+        others = [line for line in console if line not in checks and "GPU stall due to ReadPixels" not in line]
+        if others:
+            fail(f"t={t}: the console says: {others[0]}")
         if len(checks) != 1 or "ldlpgs-view check: ok" not in checks[0]:
             fail(f"t={t}: the page's check did not pass: {checks or console or 'no console output'}")
         check = checks[0]
