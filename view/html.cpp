@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cassert>
 #include <cstdint>
 #include <string_view>
 
@@ -108,6 +109,7 @@ void write_html(const Recording& recording, std::ostream& out) {
     out << std::string_view(page).substr(at, open == std::string::npos ? std::string::npos : open - at);
     if (open == std::string::npos) break;
     const size_t close = page.find("}}", open);
+    assert(close != std::string::npos);  // view/viewer.html opens no marker it does not close
     const std::string_view name = std::string_view(page).substr(open + 2, close - open - 2);
     if (name == "title") out << html_escaped(recording.name());
     else if (name == "three") for (std::string_view part : assets::three) out << part;
