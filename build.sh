@@ -18,7 +18,7 @@ packages=(cmake g++ make libsuitesparse-dev libmetis-dev libeigen3-dev libgtest-
           libbenchmark-dev nlohmann-json3-dev libcli11-dev pkg-config
           libmujoco-dev libqhull-dev libmujoco-samples libode-dev libbullet-dev libccd-dev
           pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib
-          python3-markdown libopenblas0-serial)
+          python3-markdown libopenblas0-serial libjs-three chromium python3-pil)
 # (pybind11 and python3-*: the Python module, python/, its pytest suite and the example script
 # examples/compare_orderings.py, which draws with matplotlib; python3-markdown: the report's
 # index.html, tested from the install prefix)
@@ -27,6 +27,8 @@ packages=(cmake g++ make libsuitesparse-dev libmetis-dev libeigen3-dev libgtest-
 # liblapack.so.3 alternative above the reference libblas3 that libsuitesparse-dev pulls in, so
 # that CHOLMOD supernodal is timed as on a user's machine (papers/factor.md, "BLAS: CHOLMOD supernodal with the reference BLAS and with OpenBLAS");
 # `ldlpgs bench` prints the BLAS in use)
+# (libjs-three: three.js, compiled into the viewer's page, view/; chromium and python3-pil: the
+# page's test in a headless browser, tests/view_browser_test.py)
 
 install_missing() {
   local missing=()

@@ -17,6 +17,7 @@ Command add_report_command(CLI::App& app);
 Command add_verify_command(CLI::App& app);
 Command add_bench_command(CLI::App& app);
 Command add_step_command(CLI::App& app);
+Command add_view_command(CLI::App& app);
 Command add_export_command(CLI::App& app);
 Command add_spy_command(CLI::App& app);
 Command add_sweep_command(CLI::App& app);

@@ -1,4 +1,4 @@
-// ldlpgs: the command-line program. Subcommands: order, report, verify, bench, step, export, spy, sweep, peers (ldlpgs SUBCOMMAND --help).
+// ldlpgs: the command-line program. Subcommands: order, report, verify, bench, step, view, export, spy, sweep, peers (ldlpgs SUBCOMMAND --help).
 // Bad input ends with a one-line message naming the file, line and problem, and exit code 2; the
 // options every subcommand shares, and their names, are in apps/options.h (docs/cli.md,
 // "Command-line vocabulary"). The last line of defence: no exception ends in
@@ -144,6 +144,7 @@ int main(int argc, char** argv) {
   add(ldlpgs::cli::add_verify_command);
   add(ldlpgs::cli::add_bench_command);
   add(ldlpgs::cli::add_step_command);
+  add(ldlpgs::cli::add_view_command);
   add(ldlpgs::cli::add_export_command);
   add(ldlpgs::cli::add_spy_command);
   add(ldlpgs::cli::add_sweep_command);

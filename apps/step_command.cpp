@@ -1,12 +1,14 @@
 // ldlpgs step SCENE and ldlpgs export SCENE: a scene (a JSON file or a built-in name) stepped
 // with one of the solvers, measuring solve time against constraint error; and the matrix
 // H = J W J^T + eps diag(H) of its initial pose, for the orderings and factor commands.
+// ldlpgs view SCENE is step that must write its run as a page that plays it (--html-file).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 
 #include "apps/commands.h"
 #include "apps/options.h"
@@ -19,6 +21,8 @@
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/matrix_market.h"
 #include "ldlpgs/sparse/text.h"
+#include "view/html.h"
+#include "view/recording.h"
 
 namespace ldlpgs::cli {
 
@@ -33,7 +37,7 @@ Mechanism load_mechanism(const std::string& spec) {
 namespace {
 
 struct StepArgs {
-  std::string scene, solver = "ldl-pgs", ordering = "best", trace, contacts_file;
+  std::string scene, solver = "ldl-pgs", ordering = "best", trace, contacts_file, html_file;
   std::string friction_cone = "disk", contact_schedule = to_string(ContactOptions{}.schedule);
   int factor_contacts_after = ContactOptions{}.factor_after;
   double factor_contacts_mass_ratio = ContactOptions{}.factor_mass_ratio;
@@ -120,7 +124,8 @@ void write_trace_rows(std::ofstream& out, int step, const Simulation& sim, const
   }
 }
 
-int run_step(const StepArgs& a) {
+// `command`: step or view (the --json object's "command").
+int run_step(const StepArgs& a, const char* command) {
   const StepOptions options = step_options(a);
   Mechanism original = load_mechanism(a.scene);
   if (a.timestep != 0) {
@@ -138,6 +143,14 @@ int run_step(const StepArgs& a) {
   open_csv(a.contacts_file, "the contacts file",
            "step,time,body_a,body_b,x,y,z,nx,ny,nz,depth_m,impulse_normal,impulse_t1,impulse_t2,factored", &contacts_out);
   open_csv(a.trace, "the trace file", "step,time,body,x,y,z,qw,qx,qy,qz,fx,fy,fz,tx,ty,tz", &trace);
+  // The viewer's page, opened now so that an unwritable path is refused before the run.
+  std::ofstream html;
+  std::unique_ptr<view::Recording> recording;
+  if (!a.html_file.empty()) {
+    html.open(a.html_file, std::ios::binary);
+    if (!html) throw InputError(a.html_file + ": cannot write the HTML file");
+    recording = std::make_unique<view::Recording>(original, shattered);
+  }
   const double energy_initial = total_energy(m);
   // The scene's constant loads, printed so that a driven run says what drives it.
   int loaded = 0;
@@ -184,6 +197,12 @@ int run_step(const StepArgs& a) {
       }
     }
     if (trace.is_open()) write_trace_rows(trace, s, sim, original, shattered);
+    if (recording) recording->add(sim, r);
+  }
+  if (recording) {
+    recording->finish(sim);
+    view::write_html(*recording, html);
+    finish_writing(html, a.html_file, "the HTML file");
   }
   if (trace.is_open()) finish_writing(trace, a.trace, "the trace file");
   if (contacts_out.is_open()) finish_writing(contacts_out, a.contacts_file, "the contacts file");
@@ -235,8 +254,10 @@ int run_step(const StepArgs& a) {
                         {"energy_initial_j", energy_initial},
                         {"energy_final_j", finite ? nlohmann::json(energy_final) : nlohmann::json(nullptr)},
                         {"failed_steps", failed},
-                        {"failure", came_apart.empty() ? nlohmann::json(nullptr) : nlohmann::json(came_apart)}};
-    print_json(json_header("step", std::move(j)));
+                        {"failure", came_apart.empty() ? nlohmann::json(nullptr) : nlohmann::json(came_apart)},
+                        {"html_file", a.html_file.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.html_file)},
+                        {"html_frames", recording ? nlohmann::json(recording->frames()) : nlohmann::json(nullptr)}};
+    print_json(json_header(command, std::move(j)));
   } else {
     std::printf("%s: %zu bodies, %zu constraints, %d rows; %s, %d iterations, %d steps of %g s\n", end.name.c_str(),
                 end.bodies.size(), end.constraints.size(), end.num_rows(), a.solver.c_str(), a.iterations, a.steps,
@@ -265,6 +286,9 @@ int run_step(const StepArgs& a) {
                 worst.error.angular_rms);
     std::printf("velocity residual     max %12.3e\n", worst.velocity_residual);
     std::printf("energy                initial %.6g J, final %.6g J\n", energy_initial, energy_final);
+    if (recording)
+      std::printf("viewer page           %s: %d frames of %d bodies, %.1f MB\n", a.html_file.c_str(), recording->frames(),
+                  recording->bodies(), static_cast<double>(std::filesystem::file_size(a.html_file)) / 1e6);
   }
   if (failed) std::fprintf(stderr, "ldlpgs: %d steps failed to factor; first: %s\n", failed, failure.c_str());
   // A run that came apart or blew up exits 1 with the first step's reason (physics/step.h).
@@ -306,12 +330,9 @@ void check_finite_export(const std::string& scene, const Mechanism& m, const Sys
     }
 }
 
-}  // namespace
-
-Command add_step_command(CLI::App& app) {
-  auto a = std::make_shared<StepArgs>();
-  CLI::App* cmd = app.add_subcommand("step", "Step a scene and measure solve time against constraint error");
-  cmd->add_option("scene", a->scene, "Scene file (JSON) or built-in scene name (e.g. chain-10, four-bar)")->required();
+// The options step and view share: every one of step's.
+void add_step_options(CLI::App* cmd, StepArgs* a) {
+  cmd->add_option("scene", a->scene, "Scene file (JSON), MJCF model (.xml) or built-in scene name (e.g. chain-10, four-bar)")->required();
   cmd->add_option("--solver", a->solver, "pgs, block-gs, ldl-pgs or direct")->capture_default_str();
   cmd->add_option("--iterations", a->iterations, "Solver iterations per step")
       ->capture_default_str()
@@ -354,7 +375,28 @@ Command add_step_command(CLI::App& app) {
       ->check(finite_in(0, 1e12));
   add_json_flag(cmd, &a->json);
   add_shatter_options(cmd, &a->shatter);
-  return [a] { return run_step(*a); };
+}
+
+// (--html-file is registered by each command: optional in step, required in view)
+constexpr const char* kHtmlFileHelp =
+    "Write the run as one self-contained HTML page that plays it (three.js inlined: opens offline)";
+
+}  // namespace
+
+Command add_step_command(CLI::App& app) {
+  auto a = std::make_shared<StepArgs>();
+  CLI::App* cmd = app.add_subcommand("step", "Step a scene and measure solve time against constraint error");
+  add_step_options(cmd, a.get());
+  cmd->add_option("--html-file", a->html_file, kHtmlFileHelp);
+  return [a] { return run_step(*a, "step"); };
+}
+
+Command add_view_command(CLI::App& app) {
+  auto a = std::make_shared<StepArgs>();
+  CLI::App* cmd = app.add_subcommand("view", "Step a scene as step does and write a page that plays the run");
+  add_step_options(cmd, a.get());
+  cmd->add_option("--html-file", a->html_file, kHtmlFileHelp)->required();
+  return [a] { return run_step(*a, "view"); };
 }
 
 Command add_export_command(CLI::App& app) {

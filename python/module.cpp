@@ -1,5 +1,6 @@
 // The ldlpgs Python module (pybind11): orderings, the block LDL^T and its comparison with
-// CHOLMOD on SciPy sparse matrices (factor.cpp), and the rigid-body simulation (physics.cpp).
+// CHOLMOD on SciPy sparse matrices (factor.cpp), the rigid-body simulation (physics.cpp) and its
+// viewer (view.cpp).
 // Bad input raises ldlpgs.InputError and API misuse ldlpgs.ArgumentError, both ValueErrors
 // carrying the library's message (sparse/error.h); any other C++ exception is a RuntimeError.
 #include "bindings.h"
@@ -16,4 +17,5 @@ PYBIND11_MODULE(ldlpgs, m) {
   py::register_exception<ldlpgs::ArgumentError>(m, "ArgumentError", PyExc_ValueError);
   ldlpgs::python::bind_factor(m);
   ldlpgs::python::bind_physics(m);
+  ldlpgs::python::bind_view(m);
 }

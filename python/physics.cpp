@@ -14,6 +14,7 @@
 #include "ldlpgs/physics/step.h"
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/text.h"
+#include "view/recording.h"
 
 namespace ldlpgs::python {
 
@@ -152,7 +153,7 @@ void bind_physics(py::module_& m) {
   m.def("solvers", [] { return std::vector<std::string>(solver_names().begin(), solver_names().end()); });
 
   const StepOptions defaults;
-  py::class_<Simulation>(m, "Simulation",
+  py::class_<Simulation>(m, "Simulation", py::dynamic_attr(),  // (dynamic_attr: record()'s recording, view.cpp)
                          "A mechanism stepped by one of the solvers (physics/step.h), as `ldlpgs step SCENE "
                          "--no-shatter` steps it: the module does not shatter bodies.\n"
                          "scene: a scene file (JSON), an MJCF file (.xml), a built-in scene's name (builtin_scenes()) "
@@ -169,7 +170,9 @@ void bind_physics(py::module_& m) {
            py::arg("diagnostics") = true)
       .def(
           "step",
-          [](Simulation& sim, int steps) {
+          [](py::object self, int steps) {
+            Simulation& sim = self.cast<Simulation&>();
+            view::Recording* recording = recording_of(self);  // since record(), if it was called
             if (steps < 0) throw InputError("steps must be >= 0");
             StepReport worst;
             int failed = 0, post_iterations = 0;
@@ -189,6 +192,7 @@ void bind_physics(py::module_& m) {
                 worst.penetration_max_m = std::max(worst.penetration_max_m, r.penetration_max_m);
                 contact_us[s] = r.contact_us;
                 if (!r.result.ok() && failed++ == 0) failure = r.result.factor.message();
+                if (recording) recording->add(sim, r);
               }
             }
             // The names of the program's vocabulary (docs/cli.md): units in the names, times medians.
