@@ -124,177 +124,239 @@ void write_trace_rows(std::ofstream& out, int step, const Simulation& sim, const
   }
 }
 
-// `command`: step or view (the --json object's "command").
-int run_step(const StepArgs& a, const char* command) {
-  const StepOptions options = step_options(a);
-  Mechanism original = load_mechanism(a.scene);
+// The scene as --timestep, --steps, the solver and the shattering options make it.
+struct SteppedScene {
+  Mechanism original;       // as loaded (the trace and the viewer show its bodies)
+  ShatterResult shattered;  // .mechanism: what is stepped
+};
+SteppedScene stepped_scene(const StepArgs& a, const StepOptions& options) {
+  SteppedScene scene;
+  scene.original = load_mechanism(a.scene);
   if (a.timestep != 0) {
     if (!(a.timestep > 0) || !std::isfinite(a.timestep)) throw InputError("--timestep must be positive");
-    original.timestep = a.timestep;
-    check_ranges(original, "--timestep");  // MechanismRanges' timestep, as a scene file's
+    scene.original.timestep = a.timestep;
+    check_ranges(scene.original, "--timestep");  // MechanismRanges' timestep, as a scene file's
   }
-  const ShatterResult shattered = shatter_as_told(original, a.shatter, a.ordering);
-  Mechanism m = shattered.mechanism;
+  scene.shattered = shatter_as_told(scene.original, a.shatter, a.ordering);
+  const Mechanism& m = scene.shattered.mechanism;
   if (a.steps < 1) throw InputError("--steps must be at least 1");
   if (options.solver.kind == SolverKind::direct && m.first_inequality() >= 0)
     throw InputError(a.scene + ": solver direct solves equality constraints only, and the scene has a " +
                      to_string(m.constraints[m.first_inequality()].type) + " (use ldl-pgs)");
-  std::ofstream contacts_out, trace;
-  open_csv(a.contacts_file, "the contacts file",
-           "step,time,body_a,body_b,x,y,z,nx,ny,nz,depth_m,impulse_normal,impulse_t1,impulse_t2,factored", &contacts_out);
-  open_csv(a.trace, "the trace file", "step,time,body,x,y,z,qw,qx,qy,qz,fx,fy,fz,tx,ty,tz", &trace);
-  // The viewer's page, opened now so that an unwritable path is refused before the run.
-  std::ofstream html;
+  return scene;
+}
+
+// The files a run writes as it goes, all opened before it, so that an unwritable path is refused
+// before any step: the trace, the contacts and the viewer's page.
+struct StepFiles {
+  std::ofstream trace, contacts, html;
   std::unique_ptr<view::Recording> recording;
-  if (!a.html_file.empty()) {
-    html.open(a.html_file, std::ios::binary);
-    if (!html) throw InputError(a.html_file + ": cannot write the HTML file");
-    recording = std::make_unique<view::Recording>(original, shattered);
+
+  StepFiles(const StepArgs& a, const SteppedScene& scene) {
+    open_csv(a.contacts_file, "the contacts file",
+             "step,time,body_a,body_b,x,y,z,nx,ny,nz,depth_m,impulse_normal,impulse_t1,impulse_t2,factored", &contacts);
+    open_csv(a.trace, "the trace file", "step,time,body,x,y,z,qw,qx,qy,qz,fx,fy,fz,tx,ty,tz", &trace);
+    if (!a.html_file.empty()) {
+      html.open(a.html_file, std::ios::binary);
+      if (!html) throw InputError(a.html_file + ": cannot write the HTML file");
+      recording = std::make_unique<view::Recording>(scene.original, scene.shattered);
+    }
   }
-  const double energy_initial = total_energy(m);
-  // The scene's constant loads, printed so that a driven run says what drives it.
-  int loaded = 0;
+  void add(int step, const Simulation& sim, const StepReport& r, const SteppedScene& scene) {
+    if (contacts.is_open() && step > 0) write_contact_rows(contacts, step, sim);
+    if (trace.is_open()) write_trace_rows(trace, step, sim, scene.original, scene.shattered);
+    if (recording && step > 0) recording->add(sim, r);
+  }
+  void finish(const StepArgs& a, const Simulation& sim) {
+    if (recording) {
+      recording->finish(sim);
+      view::write_html(*recording, html);
+      finish_writing(html, a.html_file, "the HTML file");
+    }
+    if (trace.is_open()) finish_writing(trace, a.trace, "the trace file");
+    if (contacts.is_open()) finish_writing(contacts, a.contacts_file, "the contacts file");
+  }
+};
+
+// The scene's constant loads, printed so that a driven run says what drives it.
+struct AppliedLoads {
+  int bodies = 0;
   double force_max = 0, torque_max = 0;  // N, N m
-  for (const RigidBody& b : original.bodies) {
-    if (b.applied_force.isZero(0) && b.applied_torque.isZero(0)) continue;
-    ++loaded;
-    force_max = std::max(force_max, b.applied_force.norm());
-    torque_max = std::max(torque_max, b.applied_torque.norm());
+  explicit AppliedLoads(const Mechanism& m) {
+    for (const RigidBody& b : m.bodies) {
+      if (b.applied_force.isZero(0) && b.applied_torque.isZero(0)) continue;
+      ++bodies;
+      force_max = std::max(force_max, b.applied_force.norm());
+      torque_max = std::max(torque_max, b.applied_torque.norm());
+    }
   }
-  const ConstraintError error_initial = constraint_error(m);
-  Simulation sim(std::move(m), options);
-  if (trace.is_open()) write_trace_rows(trace, 0, sim, original, shattered);
-  std::vector<double> solve_us, step_us, post_us;
-  std::vector<double> contact_us;
+};
+
+// What a run's steps add up to: per-step times (their medians are reported), maxima, the first
+// failed factorization and the first step run_failure refuses.
+struct StepTotals {
+  std::vector<double> solve_us, step_us, post_us, contact_us;
   StepReport worst;  // maxima over the steps
   int64_t post_iterations = 0;
   int failed = 0;
-  std::string failure, came_apart;  // the first failed factorization; the first step run_failure refuses
-  const double size = mechanism_size(original);
-  for (int s = 1; s <= a.steps; ++s) {
-    const StepReport r = sim.step();
+  std::string failure, came_apart;
+
+  void add(int step, const StepReport& r, double size) {
     solve_us.push_back(r.solve_us);
     step_us.push_back(r.step_us);
     post_us.push_back(r.post_stabilize_us);
-    post_iterations += r.post_stabilize_iterations;
     contact_us.push_back(r.contact_us);
+    post_iterations += r.post_stabilize_iterations;
     worst.contacts = std::max(worst.contacts, r.contacts);
     worst.penetration_max_m = std::max(worst.penetration_max_m, r.penetration_max_m);
-    if (contacts_out.is_open()) write_contact_rows(contacts_out, s, sim);
     worst.solve_us = std::max(worst.solve_us, r.solve_us);
     worst.error.position_max = std::max(worst.error.position_max, r.error.position_max);
     worst.error.angular_max = std::max(worst.error.angular_max, r.error.angular_max);
     worst.error.position_rms = std::max(worst.error.position_rms, r.error.position_rms);
     worst.error.angular_rms = std::max(worst.error.angular_rms, r.error.angular_rms);
     worst.velocity_residual = std::max(worst.velocity_residual, r.velocity_residual);
-    if (!r.result.ok() && failed++ == 0) failure = "step " + std::to_string(s) + ": " + r.result.factor.message();
-    if (came_apart.empty()) {
-      if (std::string why = run_failure(r, size); !why.empty()) {
-        came_apart = "step ";
-        came_apart += std::to_string(s);
-        came_apart += ": ";
-        came_apart += why;
-      }
-    }
-    if (trace.is_open()) write_trace_rows(trace, s, sim, original, shattered);
-    if (recording) recording->add(sim, r);
+    if (!r.result.ok() && failed++ == 0) failure = "step " + std::to_string(step) + ": " + r.result.factor.message();
+    if (came_apart.empty())
+      if (std::string why = run_failure(r, size); !why.empty()) came_apart = "step " + std::to_string(step) + ": " + why;
   }
-  if (recording) {
-    recording->finish(sim);
-    view::write_html(*recording, html);
-    finish_writing(html, a.html_file, "the HTML file");
-  }
-  if (trace.is_open()) finish_writing(trace, a.trace, "the trace file");
-  if (contacts_out.is_open()) finish_writing(contacts_out, a.contacts_file, "the contacts file");
+};
+
+// Everything a finished run reports, in --json or as the table.
+struct StepSummary {
+  const StepArgs& a;
+  const SteppedScene& scene;
+  const Simulation& sim;
+  const StepTotals& totals;
+  const AppliedLoads& loads;
+  const StepFiles& files;
+  double energy_initial, energy_final;
+  double position_error_initial;
+  bool finite;
+  std::string chosen;  // the ordering of H_0's blocks the LDL^T uses (best's winner); none for pgs, block-gs
+
+  void print_json(const char* command) const;
+  void print_table() const;
+};
+
+void StepSummary::print_json(const char* command) const {
   const Mechanism& end = sim.mechanism();
-  const double energy_final = total_energy(end);
-  const bool finite = std::isfinite(energy_final) && std::isfinite(worst.error.position_max);
-  // The ordering of H_0's blocks the LDL^T uses (best's winner); none for pgs and block-gs.
-  const Symbolic* symbolic = sim.solver().symbolic();
-  const std::string chosen = symbolic ? symbolic->ordering() : "";
-  if (a.json) {
-    nlohmann::json j = {{"scene", end.name},
-                        {"bodies", end.bodies.size()},
-                        {"constraints", end.constraints.size()},
-                        {"rows", end.num_rows()},
-                        {"shattered_bodies", shattered.shattered_bodies},
-                        {"loaded_bodies", loaded},
-                        {"applied_force_max_n", force_max},
-                        {"applied_torque_max_nm", torque_max},
-                        {"welds", shattered.welds},
-                        {"steps", a.steps},
-                        {"timestep_s", end.timestep},
-                        {"solver", a.solver},
-                        {"ordering", a.ordering},
-                        {"chosen", chosen.empty() ? nlohmann::json(nullptr) : nlohmann::json(chosen)},
-                        {"iterations", a.iterations},
-                        {"compliance", options.compliance},
-                        {"schedule", a.schedule},
-                        {"post_stabilize", sim.options().post_stabilize},
-                        {"post_stabilize_refactor", a.post_stabilize_refactor},
-                        {"curvature_target", a.curvature_target},
-                        {"post_stabilize_iterations", post_iterations},
-                        {"post_stabilize_skipped", sim.post_stabilize_skipped()},
-                        {"post_stabilize_rejected", sim.post_stabilize_rejected()},
-                        {"solve_us", median(solve_us)},
-                        {"solve_us_max", worst.solve_us},
-                        {"post_stabilize_us", median(post_us)},
-                        {"step_us", median(step_us)},
-                        {"contact_us", median(contact_us)},
-                        {"contacts_max", worst.contacts},
-                        {"penetration_max_m", worst.penetration_max_m},
-                        {"symbolic_analyses", sim.solver().symbolic_stats().analyses},
-                        {"symbolic_us", sim.solver().symbolic_stats().analysis_us},
-                        {"position_error_max_m", worst.error.position_max},
-                        {"position_error_rms_max_m", worst.error.position_rms},
-                        {"angular_error_max_rad", worst.error.angular_max},
-                        {"angular_error_rms_max_rad", worst.error.angular_rms},
-                        {"position_error_initial_m", error_initial.position_max},
-                        {"velocity_residual_max", worst.velocity_residual},
-                        {"energy_initial_j", energy_initial},
-                        {"energy_final_j", finite ? nlohmann::json(energy_final) : nlohmann::json(nullptr)},
-                        {"failed_steps", failed},
-                        {"failure", came_apart.empty() ? nlohmann::json(nullptr) : nlohmann::json(came_apart)},
-                        {"html_file", a.html_file.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.html_file)},
-                        {"html_frames", recording ? nlohmann::json(recording->frames()) : nlohmann::json(nullptr)}};
-    print_json(json_header(command, std::move(j)));
-  } else {
-    std::printf("%s: %zu bodies, %zu constraints, %d rows; %s, %d iterations, %d steps of %g s\n", end.name.c_str(),
-                end.bodies.size(), end.constraints.size(), end.num_rows(), a.solver.c_str(), a.iterations, a.steps,
-                end.timestep);
-    if (symbolic)
-      std::printf("ordering              %s\n", shown_name(a.ordering, chosen).c_str());
-    if (loaded)
-      std::printf("applied loads         %d bodies, largest force %g N, largest torque %g N m (world frame, constant)\n",
-                  loaded, force_max, torque_max);
-    if (shattered.shattered_bodies)
-      std::printf("shattering            %d split, %d welds added (block LDL^T flops %.0f -> %.0f)\n",
-                  shattered.shattered_bodies, shattered.welds, shattered.flops_before, shattered.flops_after);
-    std::printf("solve time per step   median %10.1f us   max %10.1f us\n", median(solve_us), worst.solve_us);
-    std::printf("post-stabilization    median %10.1f us   (%d iterations per step%s, %lld in all, %d steps skipped)\n",
-                median(post_us), sim.options().post_stabilize, a.post_stabilize_refactor ? ", refactored" : "",
-                static_cast<long long>(post_iterations), sim.post_stabilize_skipped());
-    std::printf("whole step            median %10.1f us\n", median(step_us));
-    if (worst.contacts)
-      std::printf("contacts              at most %d points, deepest penetration %.3e m, detection median %.1f us, "
-                  "%lld symbolic phases\n",
-                  worst.contacts, worst.penetration_max_m, median(contact_us),
-                  static_cast<long long>(sim.solver().symbolic_stats().analyses));
-    std::printf("position error        max %12.3e m     (worst step rms %.3e m)\n", worst.error.position_max,
-                worst.error.position_rms);
-    std::printf("angular error         max %12.3e rad   (worst step rms %.3e rad)\n", worst.error.angular_max,
-                worst.error.angular_rms);
-    std::printf("velocity residual     max %12.3e\n", worst.velocity_residual);
-    std::printf("energy                initial %.6g J, final %.6g J\n", energy_initial, energy_final);
-    if (recording)
-      std::printf("viewer page           %s: %d frames of %d bodies, %.1f MB\n", a.html_file.c_str(), recording->frames(),
-                  recording->bodies(), static_cast<double>(std::filesystem::file_size(a.html_file)) / 1e6);
+  const StepReport& worst = totals.worst;
+  const auto string_or_null = [](const std::string& s) { return s.empty() ? nlohmann::json(nullptr) : nlohmann::json(s); };
+  nlohmann::json j = {{"scene", end.name},
+                      {"bodies", end.bodies.size()},
+                      {"constraints", end.constraints.size()},
+                      {"rows", end.num_rows()},
+                      {"shattered_bodies", scene.shattered.shattered_bodies},
+                      {"loaded_bodies", loads.bodies},
+                      {"applied_force_max_n", loads.force_max},
+                      {"applied_torque_max_nm", loads.torque_max},
+                      {"welds", scene.shattered.welds},
+                      {"steps", a.steps},
+                      {"timestep_s", end.timestep},
+                      {"solver", a.solver},
+                      {"ordering", a.ordering},
+                      {"chosen", string_or_null(chosen)},
+                      {"iterations", a.iterations},
+                      {"compliance", a.compliance},
+                      {"schedule", a.schedule},
+                      {"post_stabilize", sim.options().post_stabilize},
+                      {"post_stabilize_refactor", a.post_stabilize_refactor},
+                      {"curvature_target", a.curvature_target},
+                      {"post_stabilize_iterations", totals.post_iterations},
+                      {"post_stabilize_skipped", sim.post_stabilize_skipped()},
+                      {"post_stabilize_rejected", sim.post_stabilize_rejected()},
+                      {"solve_us", median(totals.solve_us)},
+                      {"solve_us_max", worst.solve_us},
+                      {"post_stabilize_us", median(totals.post_us)},
+                      {"step_us", median(totals.step_us)},
+                      {"contact_us", median(totals.contact_us)},
+                      {"contacts_max", worst.contacts},
+                      {"penetration_max_m", worst.penetration_max_m},
+                      {"symbolic_analyses", sim.solver().symbolic_stats().analyses},
+                      {"symbolic_us", sim.solver().symbolic_stats().analysis_us},
+                      {"position_error_max_m", worst.error.position_max},
+                      {"position_error_rms_max_m", worst.error.position_rms},
+                      {"angular_error_max_rad", worst.error.angular_max},
+                      {"angular_error_rms_max_rad", worst.error.angular_rms},
+                      {"position_error_initial_m", position_error_initial},
+                      {"velocity_residual_max", worst.velocity_residual},
+                      {"energy_initial_j", energy_initial},
+                      {"energy_final_j", finite ? nlohmann::json(energy_final) : nlohmann::json(nullptr)},
+                      {"failed_steps", totals.failed},
+                      {"failure", string_or_null(totals.came_apart)},
+                      {"html_file", string_or_null(a.html_file)},
+                      {"html_frames", files.recording ? nlohmann::json(files.recording->frames()) : nlohmann::json(nullptr)}};
+  cli::print_json(json_header(command, std::move(j)));
+}
+
+void StepSummary::print_table() const {
+  const Mechanism& end = sim.mechanism();
+  const StepReport& worst = totals.worst;
+  const ShatterResult& shattered = scene.shattered;
+  std::printf("%s: %zu bodies, %zu constraints, %d rows; %s, %d iterations, %d steps of %g s\n", end.name.c_str(),
+              end.bodies.size(), end.constraints.size(), end.num_rows(), a.solver.c_str(), a.iterations, a.steps,
+              end.timestep);
+  if (sim.solver().symbolic()) std::printf("ordering              %s\n", shown_name(a.ordering, chosen).c_str());
+  if (loads.bodies)
+    std::printf("applied loads         %d bodies, largest force %g N, largest torque %g N m (world frame, constant)\n",
+                loads.bodies, loads.force_max, loads.torque_max);
+  if (shattered.shattered_bodies)
+    std::printf("shattering            %d split, %d welds added (block LDL^T flops %.0f -> %.0f)\n",
+                shattered.shattered_bodies, shattered.welds, shattered.flops_before, shattered.flops_after);
+  std::printf("solve time per step   median %10.1f us   max %10.1f us\n", median(totals.solve_us), worst.solve_us);
+  std::printf("post-stabilization    median %10.1f us   (%d iterations per step%s, %lld in all, %d steps skipped)\n",
+              median(totals.post_us), sim.options().post_stabilize, a.post_stabilize_refactor ? ", refactored" : "",
+              static_cast<long long>(totals.post_iterations), sim.post_stabilize_skipped());
+  std::printf("whole step            median %10.1f us\n", median(totals.step_us));
+  if (worst.contacts)
+    std::printf("contacts              at most %d points, deepest penetration %.3e m, detection median %.1f us, "
+                "%lld symbolic phases\n",
+                worst.contacts, worst.penetration_max_m, median(totals.contact_us),
+                static_cast<long long>(sim.solver().symbolic_stats().analyses));
+  std::printf("position error        max %12.3e m     (worst step rms %.3e m)\n", worst.error.position_max,
+              worst.error.position_rms);
+  std::printf("angular error         max %12.3e rad   (worst step rms %.3e rad)\n", worst.error.angular_max,
+              worst.error.angular_rms);
+  std::printf("velocity residual     max %12.3e\n", worst.velocity_residual);
+  std::printf("energy                initial %.6g J, final %.6g J\n", energy_initial, energy_final);
+  if (files.recording)
+    std::printf("viewer page           %s: %d frames of %d bodies, %.1f MB\n", a.html_file.c_str(),
+                files.recording->frames(), files.recording->bodies(),
+                static_cast<double>(std::filesystem::file_size(a.html_file)) / 1e6);
+}
+
+// `command`: step or view (the --json object's "command").
+int run_step(const StepArgs& a, const char* command) {
+  const StepOptions options = step_options(a);
+  const SteppedScene scene = stepped_scene(a, options);
+  StepFiles files(a, scene);
+  const AppliedLoads loads(scene.original);
+  const double energy_initial = total_energy(scene.shattered.mechanism);
+  const double position_error_initial = constraint_error(scene.shattered.mechanism).position_max;
+  Simulation sim(scene.shattered.mechanism, options);
+  files.add(0, sim, StepReport{}, scene);
+  StepTotals totals;
+  const double size = mechanism_size(scene.original);
+  for (int s = 1; s <= a.steps; ++s) {
+    const StepReport r = sim.step();
+    totals.add(s, r, size);
+    files.add(s, sim, r, scene);
   }
-  if (failed) std::fprintf(stderr, "ldlpgs: %d steps failed to factor; first: %s\n", failed, failure.c_str());
+  files.finish(a, sim);
+  const double energy_final = total_energy(sim.mechanism());
+  const bool finite = std::isfinite(energy_final) && std::isfinite(totals.worst.error.position_max);
+  const Symbolic* symbolic = sim.solver().symbolic();
+  const StepSummary summary{a,    scene,          sim, totals, loads, files, energy_initial, energy_final,
+                            position_error_initial, finite, symbolic ? symbolic->ordering() : ""};
+  if (a.json) summary.print_json(command);
+  else summary.print_table();
+  if (totals.failed)
+    std::fprintf(stderr, "ldlpgs: %d steps failed to factor; first: %s\n", totals.failed, totals.failure.c_str());
   // A run that came apart or blew up exits 1 with the first step's reason (physics/step.h).
+  std::string came_apart = totals.came_apart;
   if (!finite && came_apart.empty()) came_apart = "the final state is not finite";
   if (!came_apart.empty()) std::fprintf(stderr, "ldlpgs: the simulation blew up: %s\n", came_apart.c_str());
-  return failed || !came_apart.empty() ? 1 : 0;
+  return totals.failed || !came_apart.empty() ? 1 : 0;
 }
 
 // What export writes must be finite. check_ranges (physics/mechanism.h) keeps W, J and H finite
