@@ -39,7 +39,7 @@ def session():
     """README's Dask session, run from the project root as a doctest: its globals (the client)
     and the doctest's outcome."""
     readme = (SOURCE / "README.md").read_text()
-    block = re.search(r"Dask session[^\n]*\n\n```python\n(.*?)```", readme, re.S)
+    block = re.search(r"A Dask session.*?```python\n(.*?)```", readme, re.S)
     assert block, "README.md has no Dask session"
     test = doctest.DocTestParser().get_doctest(block.group(1), {}, "README.md", "README.md", 0)
     runner = doctest.DocTestRunner(optionflags=doctest.NORMALIZE_WHITESPACE)
