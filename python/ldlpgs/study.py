@@ -229,13 +229,18 @@ def main(argv=None):
     args = parser.parse_args(argv)
     if args.workers is not None and args.workers < 1:
         parser.error("--workers must be at least 1")
-    for option, values in (("--solvers", getattr(args, "solvers", [])),):
-        unknown = [v for v in values if v not in ldlpgs.solvers()]
+    if args.study == "sweep":
+        unknown = [v for v in args.solvers if v not in ldlpgs.solvers()]
         if unknown:
-            parser.error(f"{option}: unknown solver {unknown[0]!r} (known: {', '.join(ldlpgs.solvers())})")
+            parser.error(f"--solvers: unknown solver {unknown[0]!r} (known: {', '.join(ldlpgs.solvers())})")
+        if not (0 < args.seconds < math.inf):
+            parser.error(f"--seconds must be finite and positive, got {args.seconds}")
 
     started = time.perf_counter()
-    client, where_text = _cluster(args)
+    try:
+        client, where_text = _cluster(args)
+    except (OSError, ValueError) as e:  # no scheduler at that address, or not an address
+        parser.error(f"--scheduler {args.scheduler}: {error_text(e)}")
     try:
         if client is not None:
             print(f"ldlpgs.study: {where_text} ready in {time.perf_counter() - started:.1f} s", file=sys.stderr)

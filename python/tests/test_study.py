@@ -175,6 +175,8 @@ def test_command_line_on_a_scheduler_writes_the_report_format(session, tmp_path)
 @pytest.mark.parametrize("args, message", [
     (["sweep", "--scenes", "chain-10", "--iterations", "1,x"], "--iterations must be a comma-separated list of numbers"),
     (["sweep", "--scenes", "chain-10", "--solvers", "pgs,gauss"], "--solvers: unknown solver 'gauss'"),
+    (["sweep", "--scenes", "chain-10", "--seconds", "0"], "--seconds must be finite and positive"),
+    (["--scheduler", "no-such-scheme://x", "orderings", "a.mtx"], "--scheduler no-such-scheme://x: "),
     (["--workers", "0", "orderings", "a.mtx"], "--workers must be at least 1"),
     (["--workers", "2", "--scheduler", "tcp://x:1", "orderings", "a.mtx"], "not allowed with argument"),
     (["sweep"], "the following arguments are required: --scenes"),
