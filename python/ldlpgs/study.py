@@ -206,7 +206,8 @@ def _cluster(args):
 
 def main(argv=None):
     parser = _Parser(prog="python3 -m ldlpgs.study",
-                     description="Studies as tables of independent tasks, serial or on a Dask cluster.")
+                     description="Studies as tables of independent tasks, serial or on a Dask cluster. "
+                                 "These options come before the study's name, the study's after it.")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler (tcp://host:8786) to run the tasks on")
     where.add_argument("--workers", type=int, metavar="N", help="run the tasks on a LocalCluster of N worker processes")
@@ -218,12 +219,15 @@ def main(argv=None):
     o.add_argument("--orderings", default="all", help="comma-separated names (default all)")
     o.add_argument("--max-block", type=int, default=6)
     s = studies.add_parser("sweep", help="scenes x solvers x iterations x timesteps x mass ratios (a task each)")
-    s.add_argument("--scenes", required=True, type=_list(str, "--scenes"),
+    s.add_argument("--scenes", required=True, type=_list(str, "--scenes"), metavar="LIST",
                    help="built-in scenes' names or scene files, comma-separated")
-    s.add_argument("--solvers", type=_list(str, "--solvers"), default=list(SOLVERS))
-    s.add_argument("--iterations", type=_list(int, "--iterations"), default=list(ITERATIONS))
-    s.add_argument("--timesteps", type=_list(float, "--timesteps"), default=[None], help="s (default: the scene's)")
-    s.add_argument("--mass-ratios", type=_list(float, "--mass-ratios"), default=[None],
+    s.add_argument("--solvers", type=_list(str, "--solvers"), default=list(SOLVERS), metavar="LIST",
+                   help=f"default {','.join(SOLVERS)} (direct once, at 1 iteration)")
+    s.add_argument("--iterations", type=_list(int, "--iterations"), default=list(ITERATIONS), metavar="LIST",
+                   help=f"default {','.join(map(str, ITERATIONS))}")
+    s.add_argument("--timesteps", type=_list(float, "--timesteps"), default=[None], metavar="LIST",
+                   help="s (default: the scene's)")
+    s.add_argument("--mass-ratios", type=_list(float, "--mass-ratios"), default=[None], metavar="LIST",
                    help="heaviest over lightest dynamic mass, reached by scaling the heaviest body (default: the scene's)")
     s.add_argument("--seconds", type=float, default=1.0, help="simulated time per run (default 1)")
     args = parser.parse_args(argv)
