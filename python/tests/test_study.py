@@ -112,6 +112,22 @@ def test_bad_matrix_fails_alone(session, tmp_path, on_cluster):
     assert done["nnz_L"].notna().all() and (done["nnz_L"] == done["cholmod_nnz_L"]).all()
 
 
+def test_bad_scene_fails_alone():
+    with pytest.raises(ldlpgs.InputError) as raised:
+        ldlpgs.Simulation("no-such-scene")
+    frame = study.sweep(["chain-10", "no-such-scene", "box-stack-1000"], solvers=["ldl-pgs", "direct"],
+                        iterations=[1], seconds=0.1)
+    failed = frame[frame["task_error"].notna()]
+    assert list(zip(failed["scene"], failed["solver"])) == [("no-such-scene", "ldl-pgs"), ("no-such-scene", "direct"),
+                                                            ("box-stack-1000", "direct")]
+    assert list(failed["task_error"])[:2] == [str(raised.value)] * 2
+    assert "direct" in list(failed["task_error"])[2]  # the direct solver takes no contacts
+    done = frame[frame["task_error"].isna()]
+    assert list(zip(done["scene"], done["solver"])) == [("chain-10", "ldl-pgs"), ("chain-10", "direct"),
+                                                        ("box-stack-1000", "ldl-pgs")]
+    assert done["position_error_max_m"].notna().all() and not done["failed"].any()
+
+
 def killing_task(marker, *args):
     """study.sweep_task, except that the first run of the grid's fourth task kills the worker
     process running it (SIGKILL: as a crash or the kernel's OOM killer would), before its row."""
