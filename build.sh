@@ -18,10 +18,11 @@ packages=(cmake g++ make libsuitesparse-dev libmetis-dev libeigen3-dev libgtest-
           libbenchmark-dev nlohmann-json3-dev libcli11-dev pkg-config
           libmujoco-dev libqhull-dev libmujoco-samples libode-dev libbullet-dev libccd-dev
           pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib
-          python3-markdown libopenblas0-serial libjs-three chromium python3-pil)
+          python3-markdown python3-pandas python3-distributed libopenblas0-serial libjs-three chromium python3-pil)
 # (pybind11 and python3-*: the Python module, python/, its pytest suite and the example script
 # examples/compare_orderings.py, which draws with matplotlib; python3-markdown: the report's
-# index.html, tested from the install prefix)
+# index.html, tested from the install prefix; python3-pandas, python3-distributed: ldlpgs.study's
+# tables and its Dask clusters)
 # (libqhull-dev: Debian's mujocoConfig.cmake names /usr/include/libqhull_r/ and fails without it)
 # (libopenblas0-serial: an optimized BLAS/LAPACK, one thread, registered as the libblas.so.3 and
 # liblapack.so.3 alternative above the reference libblas3 that libsuitesparse-dev pulls in, so

@@ -2,15 +2,11 @@
 #include "apps/sweep.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <limits>
 
-#include <Eigen/Geometry>
-
 #include "apps/commands.h"
 #include "apps/options.h"
-#include "peers/median.h"
 #include "ldlpgs/physics/step.h"
 
 namespace ldlpgs::cli {
@@ -31,62 +27,6 @@ std::vector<int> sweep_iterations(bool full) {
   return {1, 2, 4, 8, 16, 32, 64, 128};
 }
 
-double blow_up_energy(const Mechanism& m) {
-  double mass = 0, kinetic = 0;
-  Eigen::AlignedBox3d box;
-  for (const RigidBody& b : m.bodies) {
-    box.extend(b.position);
-    if (b.is_static) continue;
-    mass += b.mass;
-    kinetic += b.kinetic_energy();
-  }
-  const double size = box.isEmpty() ? 0 : box.diagonal().norm();
-  return std::max(1.0, kinetic + mass * m.gravity.norm() * std::max(1.0, size));
-}
-
-SweepPoint run_case(const Mechanism& m, const std::string& scene, const std::string& solver, int iterations,
-                    double seconds) {
-  SweepPoint p;
-  p.scene = scene;
-  p.solver = solver;
-  p.iterations = solver == "direct" ? 1 : iterations;
-  StepOptions options;
-  const bool known = solver_kind_from_string(solver, &options.solver.kind);
-  assert(known && "sweep solvers are the program's own names");
-  (void)known;
-  options.solver.iterations = p.iterations;
-  options.diagnostics = true;
-  const double energy0 = total_energy(m), limit = blow_up_energy(m);
-  Simulation sim(m, options);
-  const int steps = std::max(1, static_cast<int>(std::lround(seconds / m.timestep)));
-  std::vector<double> us;
-  double work = 0;  // by the bodies' constant loads, J
-  StepReport r;
-  for (int s = 0; s < steps; ++s) {
-    r = sim.step();
-    us.push_back(r.solve_us);
-    p.error_max = std::max(p.error_max, r.error.position_max);
-    p.angular_error_max = std::max(p.angular_error_max, r.error.angular_max);
-    p.penetration_max = std::max(p.penetration_max, r.penetration_max_m);
-    if (!std::isfinite(r.energy) || !std::isfinite(r.error.position_max) || !std::isfinite(r.error.angular_max)) {
-      p.failure = "non-finite";
-      break;
-    }
-    // the constant loads' work (a driven scene gains what its torque puts in): F . v + T . w per step
-    for (const RigidBody& b : sim.mechanism().bodies)
-      work += (b.applied_force.dot(b.linear_velocity) + b.applied_torque.dot(b.angular_velocity)) * m.timestep;
-    if (r.energy - energy0 - work > limit) {
-      p.failure = "energy";
-      break;
-    }
-    if (!r.result.ok() && p.failure.empty()) p.failure = "singular";  // the run goes on, as Simulation's does
-  }
-  p.solve_us = median(us);
-  p.error = r.error.position_max;
-  p.angular_error = r.error.angular_max;
-  return p;
-}
-
 std::vector<SweepPoint> speed_vs_error(const std::vector<std::string>& cases, const std::vector<int>& iterations,
                                        double seconds, bool progress) {
   std::vector<SweepPoint> points;
@@ -98,28 +38,6 @@ std::vector<SweepPoint> speed_vs_error(const std::vector<std::string>& cases, co
     if (equality_only(m)) points.push_back(run_case(m, scene, "direct", 1, seconds));
   }
   return points;
-}
-
-Mechanism with_heavier_load(const Mechanism& m, double factor) {
-  Mechanism out = m;
-  int heaviest = -1;
-  for (int b = 0; b < static_cast<int>(out.bodies.size()); ++b)
-    if (!out.bodies[b].is_static && (heaviest < 0 || out.bodies[b].mass >= out.bodies[heaviest].mass)) heaviest = b;
-  if (heaviest >= 0) {
-    out.bodies[heaviest].mass *= factor;
-    out.bodies[heaviest].inertia *= factor;
-  }
-  return out;
-}
-
-double mass_ratio(const Mechanism& m) {
-  double lightest = std::numeric_limits<double>::infinity(), heaviest = 0;
-  for (const RigidBody& b : m.bodies) {
-    if (b.is_static) continue;
-    lightest = std::min(lightest, b.mass);
-    heaviest = std::max(heaviest, b.mass);
-  }
-  return heaviest > 0 ? heaviest / lightest : 0;
 }
 
 std::vector<Breakdown> stability(const std::vector<std::string>& cases, int iterations, double seconds, bool progress) {
@@ -222,20 +140,7 @@ void print_stability_markdown(std::FILE* out, const std::vector<Breakdown>& rows
 
 nlohmann::json to_json(const std::vector<SweepPoint>& points) {
   nlohmann::json j = nlohmann::json::array();
-  for (const SweepPoint& p : points) {
-    const bool blown = p.failure == "non-finite" || p.failure == "energy";  // its errors mean nothing
-    j.push_back({{"scene", p.scene},
-                 {"solver", p.solver},
-                 {"iterations", p.iterations},
-                 {"solve_us", p.solve_us},
-                 {"position_error_m", blown ? nlohmann::json(nullptr) : nlohmann::json(p.error)},
-                 {"position_error_max_m", blown ? nlohmann::json(nullptr) : nlohmann::json(p.error_max)},
-                 {"angular_error_rad", blown ? nlohmann::json(nullptr) : nlohmann::json(p.angular_error)},
-                 {"angular_error_max_rad", blown ? nlohmann::json(nullptr) : nlohmann::json(p.angular_error_max)},
-                 {"penetration_max_m", blown ? nlohmann::json(nullptr) : nlohmann::json(p.penetration_max)},
-                 {"failed", p.failed()},
-                 {"failure", p.failure}});
-  }
+  for (const SweepPoint& p : points) j.push_back(to_json(p));
   return j;
 }
 

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "apps/sweep_case.h"
 #include "ldlpgs/physics/mechanism.h"
 
 namespace ldlpgs::cli {
@@ -18,41 +19,11 @@ namespace ldlpgs::cli {
 std::vector<std::string> sweep_cases(bool full);
 std::vector<int> sweep_iterations(bool full);
 
-struct SweepPoint {
-  std::string scene, solver;
-  int iterations = 0;
-  double solve_us = 0;          // median per step
-  double error = 0;             // largest position error (m) over the constraints after the run
-  double error_max = 0;         // largest over the whole run
-  double angular_error = 0;     // the same for angular rows (rad)
-  double angular_error_max = 0;
-  double penetration_max = 0;   // the deepest contact at the end of any step (m; 0 without shapes)
-  // Why the run failed, "" if it did not: "non-finite" (a NaN or infinity in the state),
-  // "energy" (a blow-up: see blew_up), "singular" (a step's factorization failed; the step
-  // went on with the PGS impulses, as Simulation does).
-  std::string failure;
-  bool failed() const { return !failure.empty(); }
-};
-
-// An energy blow-up: the mechanism gained more than it takes to lift all of it by its own size
-// against gravity, plus its initial kinetic energy (at least 1 J), beyond the work its constant
-// loads (RigidBody::applied_force, applied_torque) did. Gravity is conservative and
-// Baumgarte's correction moves positions by a fraction of the error, so a sound step cannot
-// gain that; the test does not depend on where potential energy is zero.
-double blow_up_energy(const Mechanism& m);
-
-// One scene stepped for `seconds` with one solver (direct: iterations ignored).
-SweepPoint run_case(const Mechanism& m, const std::string& scene, const std::string& solver, int iterations,
-                    double seconds);
 // Every case, every solver, every iteration count (direct once per case; not on scenes with
 // inequality rows). `progress` prints a line per case on stderr.
 std::vector<SweepPoint> speed_vs_error(const std::vector<std::string>& cases, const std::vector<int>& iterations,
                                        double seconds, bool progress);
 
-// The heaviest dynamic body (the last among equals) scaled in mass and inertia by `factor`.
-Mechanism with_heavier_load(const Mechanism& m, double factor);
-// Heaviest over lightest dynamic mass.
-double mass_ratio(const Mechanism& m);
 struct Breakdown {
   std::string scene, solver;
   int iterations = 0;

@@ -4,8 +4,8 @@
 
 namespace ldlpgs::python {
 
-void bind_factor(pybind11::module_& m);   // factor.cpp: order, cholmod_counts, analyze, Factor, verify
-void bind_physics(pybind11::module_& m);  // physics.cpp: Simulation
+void bind_factor(pybind11::module_& m);   // factor.cpp: order, block_sizes, cholmod_counts, analyze, Factor, verify
+void bind_physics(pybind11::module_& m);  // physics.cpp: Simulation, sweep_run
 void bind_view(pybind11::module_& m);     // view.cpp: Simulation.record, Simulation.view (after bind_physics)
 
 }  // namespace ldlpgs::python

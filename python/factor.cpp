@@ -212,6 +212,18 @@ void bind_factor(py::module_& m) {
           .c_str());
 
   m.def(
+      "block_sizes",
+      [](py::handle a_in, py::handle blocks, int max_block, bool lower) {
+        const SymmetricCsc a = symmetric_from_scipy(a_in, lower);
+        return numpy_copy<int>(block_pattern_from(blocks, a, max_block).block_sizes());
+      },
+      py::arg("A"), py::arg("blocks") = "auto", py::arg("max_block") = 6, py::arg("lower") = false,
+      (std::string("The block partition order() and analyze() use for these arguments: the rows of each block, "
+                   "in order (its length is the `blocks` of `ldlpgs order --json`).\n") +
+       kMatrixDoc)
+          .c_str());
+
+  m.def(
       "cholmod_counts",
       [](py::handle a_in, py::handle perm, bool lower) {
         const SymmetricCsc a = symmetric_from_scipy(a_in, lower);

@@ -1,4 +1,5 @@
-// The ldlpgs Python module (pybind11): orderings, the block LDL^T and its comparison with
+// The ldlpgs Python module's bindings (pybind11), the extension ldlpgs._ldlpgs that the package's
+// __init__.py re-exports (python/ldlpgs/): orderings, the block LDL^T and its comparison with
 // CHOLMOD on SciPy sparse matrices (factor.cpp), the rigid-body simulation (physics.cpp) and its
 // viewer (view.cpp).
 // Bad input raises ldlpgs.InputError and API misuse ldlpgs.ArgumentError, both ValueErrors
@@ -7,7 +8,7 @@
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/version.h"
 
-PYBIND11_MODULE(ldlpgs, m) {
+PYBIND11_MODULE(_ldlpgs, m) {
   namespace py = pybind11;
   m.doc() = "ldlpgs: block-sparse LDL^T with graph-elimination orderings, and LDL-PGS rigid-body physics.";
   m.attr("__version__") = ldlpgs::kVersion;

@@ -1,11 +1,13 @@
 // The physics side of the module: a Simulation of a scene (a JSON file, a dict in the scene
 // format, an MJCF model or a built-in name) stepped by one of the solvers (physics/step.h), its
-// state as NumPy arrays in the layout of Simulation's flat getters (MuJoCo's xpos, xquat).
+// state as NumPy arrays in the layout of Simulation's flat getters (MuJoCo's xpos, xquat); and
+// sweep_run, one point of `ldlpgs sweep` (apps/sweep_case.h), what ldlpgs.study's sweep runs.
 #include <pybind11/stl.h>
 
 #include <algorithm>
 #include <cmath>
 
+#include "apps/sweep_case.h"
 #include "bindings.h"
 #include "convert.h"
 #include "ldlpgs/physics/mjcf.h"
@@ -110,6 +112,20 @@ void set_state(Simulation& sim, Setter set, int width, py::handle x, const char*
   (sim.*set)({a.data(), static_cast<size_t>(a.size())});
 }
 
+// The scene's timestep replaced (None: the scene's own).
+void set_timestep(Mechanism& m, std::optional<double> timestep) {
+  if (!timestep) return;
+  if (!(*timestep > 0) || !std::isfinite(*timestep)) throw InputError("timestep must be finite and positive");
+  m.timestep = *timestep;
+}
+
+// The direct solver asserts that it is given equality rows only.
+void check_solver_fits(SolverKind kind, const Mechanism& m) {
+  if (kind == SolverKind::direct && m.first_inequality() >= 0)
+    throw InputError(m.name + ": solver direct solves equality constraints only, and the scene has a " +
+                     to_string(m.constraints[m.first_inequality()].type) + " (use ldl-pgs)");
+}
+
 Simulation make_simulation(py::handle scene, const std::string& solver, int iterations, const std::string& ordering,
                            const std::string& schedule, double compliance, double baumgarte,
                            std::optional<int> post_stabilize, bool post_stabilize_refactor, bool curvature_target,
@@ -135,14 +151,8 @@ Simulation make_simulation(py::handle scene, const std::string& solver, int iter
   o.curvature_target = curvature_target;
   o.diagnostics = diagnostics;
   Mechanism m = load_mechanism(scene);
-  if (timestep) {
-    if (!(*timestep > 0) || !std::isfinite(*timestep)) throw InputError("timestep must be finite and positive");
-    m.timestep = *timestep;
-  }
-  // The direct solver asserts that it is given equality rows only.
-  if (o.solver.kind == SolverKind::direct && m.first_inequality() >= 0)
-    throw InputError(m.name + ": solver direct solves equality constraints only, and the scene has a " +
-                     to_string(m.constraints[m.first_inequality()].type) + " (use ldl-pgs)");
+  set_timestep(m, timestep);
+  check_solver_fits(o.solver.kind, m);
   return Simulation(std::move(m), o);
 }
 
@@ -151,6 +161,53 @@ Simulation make_simulation(py::handle scene, const std::string& solver, int iter
 void bind_physics(py::module_& m) {
   m.def("builtin_scenes", &builtin_scene_names, "The built-in scenes' names (physics/scenes.h).");
   m.def("solvers", [] { return std::vector<std::string>(solver_names().begin(), solver_names().end()); });
+
+  m.def(
+      "sweep_run",
+      [](py::handle scene, const std::string& solver, int iterations, double seconds, std::optional<double> timestep,
+         std::optional<double> ratio) {
+        SolverKind kind{};
+        parse_name("solver", solver, [&](const std::string& s) { return solver_kind_from_string(s, &kind); },
+                   solver_names);
+        if (iterations < 1) throw InputError("iterations must be at least 1");
+        if (!(seconds > 0) || !std::isfinite(seconds)) throw InputError("seconds must be finite and positive");
+        Mechanism m = load_mechanism(scene);
+        set_timestep(m, timestep);
+        check_solver_fits(kind, m);
+        if (ratio) {
+          // The heaviest body scaled, as `ldlpgs sweep --stability` loads a scene; the scaled body
+          // stays the heaviest unless the ratio asked for is below the next heaviest body's.
+          const double own = cli::mass_ratio(m);
+          if (!(*ratio >= 1) || !std::isfinite(*ratio)) throw InputError("mass_ratio must be finite and at least 1");
+          if (own == 0) throw InputError(m.name + ": no dynamic body to load (mass_ratio)");
+          m = cli::with_heavier_load(m, *ratio / own);
+          if (const double reached = cli::mass_ratio(m); std::abs(reached - *ratio) > 1e-9 * *ratio)
+            throw InputError(m.name + ": mass_ratio=" + format_number(*ratio) +
+                             " is below what scaling its heaviest body can reach (its own is " + format_number(own) +
+                             ")");
+        }
+        // The point is named by the scene as given, as `ldlpgs sweep` names it.
+        const std::string name = py::isinstance<py::dict>(scene) ? m.name : std::string(py::str(scene));
+        cli::SweepPoint p;
+        {
+          py::gil_scoped_release release;  // the steps touch no Python object
+          p = cli::run_case(m, name, solver, iterations, seconds);
+        }
+        nlohmann::json j = cli::to_json(p);
+        j["timestep_s"] = m.timestep;
+        j["simulated_s"] = seconds;
+        j["mass_ratio"] = cli::mass_ratio(m);
+        return py::module_::import("json").attr("loads")(j.dump());
+      },
+      py::arg("scene"), py::arg("solver") = "ldl-pgs", py::arg("iterations") = 10, py::arg("seconds") = 1.0,
+      py::arg("timestep") = py::none(), py::arg("mass_ratio") = py::none(),
+      "One point of `ldlpgs sweep` (the same code, apps/sweep_case.h): the scene (as Simulation takes it) "
+      "stepped for `seconds` simulated with one solver (direct: iterations ignored) and the diagnostics, its "
+      "point's fields of `ldlpgs sweep --json` (solve_us the median per step; position and angular errors "
+      "after the run and largest during it, None after a blow-up; failed and failure: \"non-finite\", "
+      "\"energy\", \"singular\" or \"\"), and timestep_s, simulated_s and mass_ratio (heaviest over "
+      "lightest dynamic mass). timestep=None is the scene's; mass_ratio=R scales the heaviest body so that "
+      "the ratio is R (as `ldlpgs sweep --stability` loads it).");
 
   const StepOptions defaults;
   py::class_<Simulation>(m, "Simulation", py::dynamic_attr(),  // (dynamic_attr: record()'s recording, view.cpp)

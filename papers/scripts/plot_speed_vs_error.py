@@ -7,7 +7,7 @@ Writes OUTDIR/speed-vs-error-CASE.png for each case of SWEEP.json and lists them
 Log-log: x = median solve time per step (us), y = largest position error over the constraints
 after the run (m). One curve per iterative solver through its iteration counts (each point
 labelled with its count), direct as a single marker; a failed run (non-finite state, failed
-factorization or energy blow-up: apps/sweep.cpp) is an 'x' at the top of the plot. The dotted
+factorization or energy blow-up: apps/sweep_case.cpp) is an 'x' at the top of the plot. The dotted
 line is 1 cm, the stability study's threshold.
 """
 import json
