@@ -13,7 +13,7 @@
 #include "ldlpgs/physics/scenes.h"
 #include "ldlpgs/physics/step.h"
 #include "ldlpgs/sparse/error.h"
-#include "tests/allocation_counter.h"  // (replaces operator new: one per executable)
+#include "tests/support/allocation_counter.h"  // (replaces operator new: one per executable)
 
 namespace ldlpgs {
 namespace {

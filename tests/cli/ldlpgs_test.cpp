@@ -19,7 +19,7 @@
 #include "ldlpgs/sparse/matrix_market.h"
 #include "ldlpgs/sparse/partition.h"
 #include "ldlpgs/version.h"
-#include "tests/temp_files.h"
+#include "tests/support/temp_files.h"
 
 namespace ldlpgs {
 namespace {
@@ -199,7 +199,7 @@ TEST(LdlpgsBench, JsonFields) {
 
 // A singular matrix is a numerical failure, not bad input (exit 1, not 2): diag(2, 0, 3) stops
 // every sparse solver at row 1 whatever the order, and each says so in its own words (ours and
-// CHOLMOD naming the row; tests/competitors_test.cpp and numeric_test.cpp check the row in an
+// CHOLMOD naming the row; tests/peers/competitors_test.cpp and numeric_test.cpp check the row in an
 // order that is not the identity).
 const char kSingular[] = "%%MatrixMarket matrix coordinate real symmetric\n3 3 3\n1 1 2\n2 2 0\n3 3 3\n";
 
@@ -651,7 +651,7 @@ TEST(LdlpgsSpy, SceneOutIsTheMechanismSpied) {
 
 // The trace names the scene's own bodies, shattered or not, and they move alike: the shards'
 // whole_body against the whole body, 0.2 s of direct steps. Bound: 1e-4 m, what
-// tests/shatter_test.cpp measures and bounds for this vehicle over a whole second (6.5e-5 m).
+// tests/physics/shatter_test.cpp measures and bounds for this vehicle over a whole second (6.5e-5 m).
 TEST(LdlpgsStep, ShatteredSceneTracesTheScenesBodies) {
   const std::string whole = temp_path("whole.csv"), shattered = temp_path("shattered.csv");
   const Result a = run("step multi-wheeled-vehicle --solver direct --steps 20 --no-shatter --trace-file " + whole + " --json");

@@ -21,7 +21,7 @@
 #include "ldlpgs/sparse/cholmod_adapter.h"
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/matrix_market.h"
-#include "tests/test_matrices.h"
+#include "tests/support/test_matrices.h"
 
 namespace ldlpgs {
 namespace {

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "ldlpgs/sparse/matrix_market.h"
-#include "tests/test_matrices.h"
+#include "tests/support/test_matrices.h"
 
 namespace ldlpgs {
 namespace {

@@ -16,7 +16,7 @@
 
 #include "ldlpgs/sparse/matrix_market.h"
 #include "ldlpgs/sparse/partition.h"
-#include "tests/test_matrices.h"
+#include "tests/support/test_matrices.h"
 
 namespace ldlpgs {
 namespace {

@@ -14,7 +14,7 @@
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/families.h"
 #include "ldlpgs/sparse/partition.h"
-#include "tests/test_matrices.h"
+#include "tests/support/test_matrices.h"
 
 namespace ldlpgs {
 namespace {

@@ -18,7 +18,7 @@
 
 #include "ldlpgs/physics/scenes.h"
 #include "ldlpgs/physics/step.h"
-#include "tests/mechanism_compare.h"
+#include "tests/support/mechanism_compare.h"
 
 namespace ldlpgs {
 namespace {

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "ldlpgs/sparse/error.h"
-#include "tests/temp_files.h"
+#include "tests/support/temp_files.h"
 #include "ldlpgs/sparse/matrix_market.h"
 
 namespace ldlpgs {

@@ -16,8 +16,8 @@
 
 #include "ldlpgs/sparse/eigen_adapter.h"
 #include "ldlpgs/sparse/error.h"
-#include "tests/temp_files.h"
-#include "tests/test_matrices.h"
+#include "tests/support/temp_files.h"
+#include "tests/support/test_matrices.h"
 
 namespace ldlpgs {
 namespace {

@@ -21,7 +21,7 @@
 
 #include "ldlpgs/physics/step.h"
 #include "ldlpgs/sparse/error.h"
-#include "tests/temp_files.h"
+#include "tests/support/temp_files.h"
 
 #ifdef LDLPGS_HAVE_MUJOCO
 #include <mujoco/mujoco.h>

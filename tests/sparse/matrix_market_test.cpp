@@ -22,9 +22,9 @@
 #include "ldlpgs/sparse/cholmod_adapter.h"
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/limits.h"
-#include "tests/bytes_read.h"
-#include "tests/temp_files.h"
-#include "tests/test_matrices.h"
+#include "tests/support/bytes_read.h"
+#include "tests/support/temp_files.h"
+#include "tests/support/test_matrices.h"
 
 namespace ldlpgs {
 namespace {

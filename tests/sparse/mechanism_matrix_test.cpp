@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/test_matrices.h"
+#include "tests/support/test_matrices.h"
 
 namespace ldlpgs {
 namespace {

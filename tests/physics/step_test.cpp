@@ -6,7 +6,7 @@
 #include "ldlpgs/factor/symbolic.h"
 #include "ldlpgs/physics/scenes.h"
 #include "ldlpgs/sparse/error.h"
-#include "tests/allocation_counter.h"  // (replaces operator new: one per executable)
+#include "tests/support/allocation_counter.h"  // (replaces operator new: one per executable)
 
 #include <gtest/gtest.h>
 

@@ -21,9 +21,9 @@
 #include "ldlpgs/sparse/families.h"
 #include "ldlpgs/sparse/mechanism_matrix.h"
 #include "ldlpgs/sparse/partition.h"
-#include "tests/test_matrices.h"
+#include "tests/support/test_matrices.h"
 
-#include "tests/allocation_counter.h"  // (replaces operator new: one per executable)
+#include "tests/support/allocation_counter.h"  // (replaces operator new: one per executable)
 
 namespace ldlpgs {
 namespace {

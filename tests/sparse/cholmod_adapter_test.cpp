@@ -24,8 +24,8 @@
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/families.h"
 #include "ldlpgs/sparse/matrix_market.h"
-#include "tests/temp_files.h"
-#include "tests/test_matrices.h"
+#include "tests/support/temp_files.h"
+#include "tests/support/test_matrices.h"
 
 namespace ldlpgs {
 namespace {

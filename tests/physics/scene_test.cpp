@@ -20,9 +20,9 @@
 
 #include "ldlpgs/physics/step.h"
 #include "ldlpgs/sparse/error.h"
-#include "tests/mechanism_compare.h"
-#include "tests/bytes_read.h"
-#include "tests/temp_files.h"
+#include "tests/support/mechanism_compare.h"
+#include "tests/support/bytes_read.h"
+#include "tests/support/temp_files.h"
 
 namespace ldlpgs {
 namespace {
