@@ -15,11 +15,15 @@
 
 #include "ldlpgs/physics/mjcf.h"
 #include "ldlpgs/physics/scenes.h"
+#include "tests/support/bodies.h"
+#include "tests/support/program.h"
 
 namespace ldlpgs::peers {
 namespace {
 
 using Eigen::Vector3d;
+using ldlpgs::testing::grounded;
+using ldlpgs::testing::run;
 
 // An engine that is not installed, or cannot express a scene, is reported as "not run:", never
 // with gtest's "[  SKIPPED ]": ctest (gtest_discover_tests) takes that text in a test's output
@@ -39,12 +43,7 @@ std::vector<const PeerEngine*> available_engines() {
 // the wrong convention shows as a separation): ground -ball- b1 -hinge- b2 -weld- b3, laid out
 // along a diagonal so gravity swings it; `with_sliding` adds b3 -prismatic- b4 -cylindrical- b5.
 Mechanism mixed_chain(bool with_sliding) {
-  Mechanism m;
-  m.name = "mixed";
-  RigidBody ground;
-  ground.name = "ground";
-  ground.is_static = true;
-  m.add_body(ground);
+  Mechanism m = grounded("mixed");
   const Vector3d step(0.4, -0.3, 0.1);
   for (int i = 0; i < (with_sliding ? 5 : 3); ++i) {
     RigidBody b;
@@ -151,19 +150,14 @@ TEST(Peers, SceneAnEngineCannotExpressIsSkippedWithAMessage) {
 
 // A 1 kg unit cube (friction 0.6) resting on a ground plane at y = 0, y up, 1/60 s steps.
 Mechanism cube_on_ground() {
-  Mechanism m;
-  m.name = "cube-on-ground";
+  Mechanism m = grounded("cube-on-ground");
   m.timestep = 1.0 / 60;
   m.gravity = Vector3d(0, -9.81, 0);
-  RigidBody ground;
-  ground.name = "ground";
-  ground.is_static = true;
   Shape plane;
   plane.type = ShapeType::plane;
   plane.normal = Vector3d::UnitY();
   plane.friction = 0.6;
-  ground.shapes.push_back(plane);
-  m.add_body(ground);
+  m.bodies[0].shapes.push_back(plane);
   RigidBody cube;
   cube.name = "cube";
   cube.mass = 1;
@@ -352,19 +346,12 @@ TEST(Peers, FindPeerByName) {
   EXPECT_EQ(find_peer("no-such-engine"), nullptr);
 }
 
-int run(const std::string& args) {
-  std::string command = LDLPGS_BIN;
-  command += " peers " + args + " >/dev/null 2>&1";
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-TEST(PeersCommand, UnknownSceneExitsTwo) { EXPECT_EQ(run("no-such-scene"), 2); }
-TEST(PeersCommand, UnknownEngineExitsTwo) { EXPECT_EQ(run("pendulum --engines no-such-engine"), 2); }
-TEST(PeersCommand, PendulumRuns) { EXPECT_EQ(run("pendulum --seconds 0.1 --json"), 0); }
+TEST(PeersCommand, UnknownSceneExitsTwo) { EXPECT_EQ(run("peers no-such-scene").code, 2); }
+TEST(PeersCommand, UnknownEngineExitsTwo) { EXPECT_EQ(run("peers pendulum --engines no-such-engine").code, 2); }
+TEST(PeersCommand, PendulumRuns) { EXPECT_EQ(run("peers pendulum --seconds 0.1 --json").code, 0); }
 #ifdef LDLPGS_HAVE_MUJOCO
 TEST(PeersCommand, MjcfSceneRuns) {
-  EXPECT_EQ(run("/usr/share/mujoco/model/slider_crank/slider_crank.xml --seconds 0.1 --engines mujoco-mjcf"), 0);
+  EXPECT_EQ(run("peers /usr/share/mujoco/model/slider_crank/slider_crank.xml --seconds 0.1 --engines mujoco-mjcf").code, 0);
 }
 #endif
 

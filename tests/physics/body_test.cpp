@@ -9,6 +9,8 @@
 #include <numbers>
 #include <random>
 
+#include "tests/support/random_poses.h"
+
 namespace ldlpgs {
 namespace {
 
@@ -17,11 +19,7 @@ using Eigen::Matrix3d;
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
 
-// Uniform on the unit quaternions (normalized 4-d Gaussian).
-Quaterniond random_rotation(std::mt19937& rng) {
-  std::normal_distribution<double> g;
-  return Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized();
-}
+using testing::random_rotation;
 
 RigidBody random_body(std::mt19937& rng) {
   std::uniform_real_distribution<double> moment(0.1, 10);

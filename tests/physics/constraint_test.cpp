@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/random_poses.h"
+
 namespace ldlpgs {
 
 // Test names and failure messages print the type's name.
@@ -35,18 +37,8 @@ constexpr ConstraintType kAllTypes[] = {ConstraintType::ball,          Constrain
                                         ConstraintType::rope,          ConstraintType::angular_limit,
                                         ConstraintType::positional_limit};
 
-// Uniform in [-scale, scale]^3.
-Vector3d random_vector(std::mt19937& rng, double scale) {
-  std::uniform_real_distribution<double> u(-scale, scale);
-  return Vector3d(u(rng), u(rng), u(rng));
-}
-
-// Uniform on the unit quaternions (normalized 4-d Gaussian).
-Quaterniond random_rotation(std::mt19937& rng) {
-  std::normal_distribution<double> g;
-  Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-  return q.normalized();
-}
+using testing::random_rotation;
+using testing::random_vector;
 
 RigidBody random_body(std::mt19937& rng, bool is_static = false) {
   RigidBody b;
@@ -130,7 +122,7 @@ std::string case_name(JacobianCase c) {
 }
 void PrintTo(JacobianCase c, std::ostream* os) { *os << case_name(c); }
 
-class ConstraintJacobian : public testing::TestWithParam<JacobianCase> {};
+class ConstraintJacobian : public ::testing::TestWithParam<JacobianCase> {};
 
 // dc/dt = J V against the central difference (c(pose + h V) - c(pose - h V)) / (2h), h = 1e-6, at
 // 20 random poses with both bodies dynamic and 10 with one static (5 each side), every pose away
@@ -184,7 +176,7 @@ TEST_P(ConstraintJacobian, MatchesCentralFiniteDifferences) {
 
 INSTANTIATE_TEST_SUITE_P(
     AllTypes, ConstraintJacobian,
-    testing::Values(JacobianCase{ConstraintType::ball, Side::none}, JacobianCase{ConstraintType::hinge, Side::none},
+    ::testing::Values(JacobianCase{ConstraintType::ball, Side::none}, JacobianCase{ConstraintType::hinge, Side::none},
                     JacobianCase{ConstraintType::prismatic, Side::none},
                     JacobianCase{ConstraintType::cylindrical, Side::none},
                     JacobianCase{ConstraintType::weld, Side::none}, JacobianCase{ConstraintType::rod, Side::none},
@@ -193,13 +185,13 @@ INSTANTIATE_TEST_SUITE_P(
                     JacobianCase{ConstraintType::angular_limit, Side::max},
                     JacobianCase{ConstraintType::positional_limit, Side::min},
                     JacobianCase{ConstraintType::positional_limit, Side::max}),
-    [](const testing::TestParamInfo<JacobianCase>& info) { return case_name(info.param); });
+    [](const ::testing::TestParamInfo<JacobianCase>& info) { return case_name(info.param); });
 
 // ---- per-type claims over all types ----
 
-class EveryType : public testing::TestWithParam<ConstraintType> {};
+class EveryType : public ::testing::TestWithParam<ConstraintType> {};
 
-std::string type_name(const testing::TestParamInfo<ConstraintType>& info) { return to_string(info.param); }
+std::string type_name(const ::testing::TestParamInfo<ConstraintType>& info) { return to_string(info.param); }
 
 // Right after make_*: an equality's c is 0, a rope built at its current length is taut (c = 0),
 // a limit's value is 0 (the initial pose is its zero).
@@ -291,7 +283,7 @@ TEST_P(EveryType, EvaluateFillsNumRows) {
   EXPECT_EQ(evaluate(random_constraint(type, rng, a, b), a, b).rows, num_rows(type));
 }
 
-INSTANTIATE_TEST_SUITE_P(AllTypes, EveryType, testing::ValuesIn(kAllTypes), type_name);
+INSTANTIATE_TEST_SUITE_P(AllTypes, EveryType, ::testing::ValuesIn(kAllTypes), type_name);
 
 // ---- the table and the names ----
 

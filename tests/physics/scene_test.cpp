@@ -20,6 +20,7 @@
 
 #include "ldlpgs/physics/step.h"
 #include "ldlpgs/sparse/error.h"
+#include "tests/support/bodies.h"
 #include "tests/support/mechanism_compare.h"
 #include "tests/support/bytes_read.h"
 #include "tests/support/temp_files.h"
@@ -31,6 +32,7 @@ using nlohmann::json;
 using testing::temp_file;
 using testing::temp_path;
 using testing::expect_same;
+using testing::static_body;
 
 const std::string kTestData = LDLPGS_TESTDATA;
 
@@ -51,10 +53,7 @@ Mechanism every_type() {
   m.name = "every type";
   m.gravity = Eigen::Vector3d(0.5, -9.81, 0.25);
   m.timestep = 1.0 / 240;
-  RigidBody ground;
-  ground.name = "ground";
-  ground.is_static = true;
-  ground.position = Eigen::Vector3d(0.1, 0.2, -0.3);
+  RigidBody ground = static_body("ground", Eigen::Vector3d(0.1, 0.2, -0.3));
   ground.orientation = Eigen::Quaterniond(0.9, 0.1, -0.3, 0.2).normalized();
   m.add_body(ground);
   for (int i = 0; i < 8; ++i) {
@@ -65,11 +64,7 @@ Mechanism every_type() {
     b.angular_velocity = Eigen::Vector3d(-0.5, 0.25 * i, 1.5);
     m.add_body(b);
   }
-  RigidBody wall;
-  wall.name = "wall";
-  wall.is_static = true;
-  wall.position = Eigen::Vector3d(10, 0, 0);
-  m.add_body(wall);
+  m.add_body(static_body("wall", Eigen::Vector3d(10, 0, 0)));
   auto mid = [&](int a, int b) { return (0.5 * (m.bodies[a].position + m.bodies[b].position)).eval(); };
   const Eigen::Vector3d axis(0.3, -1, 0.7);
   const auto& B = m.bodies;

@@ -27,6 +27,7 @@
 
 #include "ldlpgs/physics/scene.h"
 #include "ldlpgs/physics/step.h"
+#include "tests/support/bodies.h"
 #include "tests/support/mechanism_compare.h"
 #include "tests/support/temp_files.h"
 
@@ -430,13 +431,8 @@ DriveRun drive(Mechanism m, const std::string& driven, double dt, double duratio
 // and n quaternion rotations (asserted 1e-12 rad over 6.3 rad). Measured: 2.3e-15 and 1.1e-14.
 TEST(Scenes, TorqueTurnsAHingedDiscAtTauTOverI) {
   const double mass = 2, radius = 0.2, tau = 0.5, duration = 1;
-  Mechanism m;
-  m.name = "driven disc";
+  Mechanism m = testing::grounded("driven disc");
   m.gravity = Eigen::Vector3d::Zero();
-  RigidBody ground;
-  ground.name = "ground";
-  ground.is_static = true;
-  m.add_body(ground);
   RigidBody disc;
   disc.name = "disc";
   disc.mass = mass;

@@ -18,7 +18,9 @@
 
 #include "ldlpgs/physics/scenes.h"
 #include "ldlpgs/physics/step.h"
+#include "tests/support/bodies.h"
 #include "tests/support/mechanism_compare.h"
+#include "tests/support/random_poses.h"
 
 namespace ldlpgs {
 namespace {
@@ -27,42 +29,17 @@ using Eigen::Matrix3d;
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
 
-// "link3": built by appending (GCC 12 warns falsely on "literal" + std::string at -O3).
-std::string numbered(const char* prefix, int i) {
-  std::string name = prefix;
-  name += std::to_string(i);
-  return name;
-}
+using testing::dynamic_body;
+using testing::grounded;
+using testing::numbered;
+using testing::random_vector;
+using testing::static_body;
 
 Quaterniond random_orientation(std::mt19937& rng) {
   std::normal_distribution<double> n(0, 1);
   return Quaterniond(Eigen::Vector4d(n(rng), n(rng), n(rng), n(rng)).normalized());
 }
 
-Vector3d random_vector(std::mt19937& rng, double scale) {
-  std::uniform_real_distribution<double> u(-scale, scale);
-  return Vector3d(u(rng), u(rng), u(rng));
-}
-
-RigidBody dynamic(const std::string& name, double mass, const Vector3d& inertia, const Vector3d& position) {
-  RigidBody b;
-  b.name = name;
-  b.mass = mass;
-  b.inertia = inertia;
-  b.position = position;
-  return b;
-}
-
-// A mechanism named `name` whose body 0 is a static "ground" at the origin.
-Mechanism grounded(const char* name) {
-  Mechanism m;
-  m.name = name;
-  RigidBody ground;
-  ground.name = "ground";
-  ground.is_static = true;
-  m.add_body(ground);
-  return m;
-}
 
 // An anisotropic "hub" (principal moments 0.6, 2.9, 2.2: least about body x) at a random
 // orientation, moving and spinning, joined to a static ground and to eight other bodies by
@@ -71,19 +48,15 @@ Mechanism hub_mechanism(unsigned seed) {
   std::mt19937 rng(seed);
   Mechanism m;
   m.name = "hub";
-  RigidBody ground;
-  ground.name = "ground";
-  ground.is_static = true;
-  ground.position = Vector3d(0, 3, 0);
-  m.add_body(ground);
-  RigidBody hub = dynamic("hub", 4.0, Vector3d(0.6, 2.9, 2.2), Vector3d(0.3, 1.2, -0.4));
+  m.add_body(static_body("ground", Vector3d(0, 3, 0)));
+  RigidBody hub = dynamic_body("hub", 4.0, Vector3d(0.6, 2.9, 2.2), Vector3d(0.3, 1.2, -0.4));
   hub.orientation = random_orientation(rng);
   hub.linear_velocity = random_vector(rng, 2);
   hub.angular_velocity = random_vector(rng, 3);
   const int h = m.add_body(hub);
   std::vector<int> other;
   for (int i = 0; i < 8; ++i) {
-    RigidBody b = dynamic(numbered("b", i), 1 + 0.2 * i, Vector3d(0.1, 0.12, 0.15), hub.position + random_vector(rng, 2));
+    RigidBody b = dynamic_body(numbered("b", i), 1 + 0.2 * i, Vector3d(0.1, 0.12, 0.15), hub.position + random_vector(rng, 2));
     b.orientation = random_orientation(rng);
     b.linear_velocity = random_vector(rng, 1);
     b.angular_velocity = random_vector(rng, 1);
@@ -396,7 +369,7 @@ TEST(Shatter, ChainIsLeftAlone) {
 Mechanism swing_rack() {
   Mechanism m = grounded("swing-rack");
   const double beam_mass = 300, lx = 4, ly = 0.3, lz = 0.3;
-  RigidBody beam = dynamic("beam", beam_mass,
+  RigidBody beam = dynamic_body("beam", beam_mass,
                            beam_mass / 12 * Vector3d(ly * ly + lz * lz, lx * lx + lz * lz, lx * lx + ly * ly),
                            Vector3d(0, -0.4, 0));
   // swinging about the joint (a rigid field about the origin) and turning about the vertical
@@ -411,7 +384,7 @@ Mechanism swing_rack() {
     // hinged links swing in the hinge's plane (xy); the others lean out of it too
     const Vector3d down = i % 2 ? Vector3d(std::sin(angle), -std::cos(angle), 0)
                                 : Vector3d(0.5 * std::sin(angle), -std::cos(angle), 0.8 * std::sin(angle)).normalized();
-    RigidBody link = dynamic(numbered("link", i), link_mass,
+    RigidBody link = dynamic_body(numbered("link", i), link_mass,
                              link_mass / 12 * Vector3d(l * l + t * t, 2 * t * t, l * l + t * t), top + 0.5 * l * down);
     link.orientation = Quaterniond::FromTwoVectors(-Vector3d::UnitY(), down);
     // moving with the beam at the joint
@@ -519,11 +492,11 @@ TEST(Shatter, ShatteredMechanismsMoveAsTheWholeOnes) {
 // over [-0.5, 0.5].
 Mechanism light_hub_star(double hub_mass, int arms) {
   Mechanism m = grounded("star");
-  const int h = m.add_body(dynamic("hub", hub_mass, Vector3d(1, 1, 1), Vector3d::Zero()));
+  const int h = m.add_body(dynamic_body("hub", hub_mass, Vector3d(1, 1, 1), Vector3d::Zero()));
   m.add_constraint(m.ball(0, h, Vector3d::Zero()));
   for (int i = 0; i < arms; ++i) {
     const double x = -0.5 + i / (arms - 1.0);
-    const int b = m.add_body(dynamic(numbered("arm", i), 1, Vector3d(0.01, 0.01, 0.01), Vector3d(x, -0.3, 0.2)));
+    const int b = m.add_body(dynamic_body(numbered("arm", i), 1, Vector3d(0.01, 0.01, 0.01), Vector3d(x, -0.3, 0.2)));
     m.add_constraint(m.ball(h, b, Vector3d(x, 0, 0)));
   }
   return m;
@@ -581,7 +554,7 @@ TEST(LdlpgsRobust, ShatteringAtExtremeMassRatiosKeepsTheShardsOnTheBody) {
 // from the shattered mechanism (spy --scene-out) was refused for duplicate names.
 TEST(LdlpgsRobust, ShardNamesAreUnique) {
   Mechanism m = hub_mechanism(3);
-  for (const char* name : {"hub#0", "hub#1", "hub#1~2", "hub#2"}) m.add_body(dynamic(name, 1, Vector3d(1, 1, 1), Vector3d(5, 5, 5)));
+  for (const char* name : {"hub#0", "hub#1", "hub#1~2", "hub#2"}) m.add_body(dynamic_body(name, 1, Vector3d(1, 1, 1), Vector3d(5, 5, 5)));
   ShatterOptions options;
   options.shards = 4;
   const ShatterResult r = shatter(m, options);
@@ -595,11 +568,8 @@ TEST(LdlpgsRobust, ShardNamesAreUnique) {
 // MuJoCo's world body has no mass: whole_body of its one "shard" divided 0 by 0, and step
 // --trace-file wrote -nan for it.
 TEST(LdlpgsRobust, WholeBodyOfAMasslessStaticBodyIsItself) {
-  RigidBody world;
-  world.name = "world";
-  world.is_static = true;
+  RigidBody world = static_body("world", Vector3d(1, 2, 3));
   world.mass = 0;
-  world.position = Vector3d(1, 2, 3);
   Mechanism m;
   m.add_body(world);
   const RigidBody w = whole_body(m, {0}, world);

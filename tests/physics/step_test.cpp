@@ -7,6 +7,7 @@
 #include "ldlpgs/physics/scenes.h"
 #include "ldlpgs/sparse/error.h"
 #include "tests/support/allocation_counter.h"  // (replaces operator new: one per executable)
+#include "tests/support/bodies.h"
 
 #include <gtest/gtest.h>
 
@@ -23,27 +24,13 @@
 namespace ldlpgs {
 namespace {
 
-// "link3": built by appending (GCC 12 warns falsely on "literal" + std::string at -O3).
-std::string numbered(const char* prefix, int i) {
-  std::string name = prefix;
-  name += std::to_string(i);
-  return name;
-}
+using testing::dynamic_body;
+using testing::numbered;
+using testing::static_body;
 
-RigidBody ground() {
-  RigidBody g;
-  g.name = "ground";
-  g.is_static = true;
-  return g;
-}
-
+// A cube of side `size`: moments m size^2 / 6.
 RigidBody box(const std::string& name, double mass, const Eigen::Vector3d& position, double size = 0.1) {
-  RigidBody b;
-  b.name = name;
-  b.mass = mass;
-  b.inertia = Eigen::Vector3d::Constant(mass * size * size / 6);  // a cube of side `size`
-  b.position = position;
-  return b;
+  return dynamic_body(name, mass, Eigen::Vector3d::Constant(mass * size * size / 6), position);
 }
 
 StepOptions options(SolverKind kind, int iterations = 10) {
@@ -67,7 +54,7 @@ StepOptions velocity_only(SolverKind kind, int iterations = 10) {
 Mechanism hanging_chain(int n, double load = 1, double angle = 0, double l = 0.5) {
   Mechanism m;
   m.name = "chain";
-  m.add_body(ground());
+  m.add_body(static_body("ground"));
   const Eigen::Vector3d down(std::sin(angle), -std::cos(angle), 0);
   const Eigen::Quaterniond tilt(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()));
   for (int i = 0; i < n; ++i) {
@@ -93,7 +80,7 @@ TEST(Step, PendulumPeriodMatchesTheAnalyticValue) {
   for (SolverKind kind : {SolverKind::direct, SolverKind::ldl_pgs, SolverKind::block_gs}) {
     Mechanism m;
     m.timestep = 1e-3;
-    m.add_body(ground());
+    m.add_body(static_body("ground"));
     RigidBody bob = box("bob", 1, Eigen::Vector3d(l * std::sin(amplitude), -l * std::cos(amplitude), 0));
     m.add_body(bob);
     m.add_constraint(m.ball(0, 1, Eigen::Vector3d::Zero()));
@@ -212,7 +199,7 @@ TEST(Step, FreeMechanismConservesMomentum) {
 // on the ground: 20 rows on 18 freedoms, 3 of them redundant (H singular without compliance).
 Mechanism four_bar() {
   Mechanism m;
-  m.add_body(ground());
+  m.add_body(static_body("ground"));
   const Eigen::Vector3d a(0, 0, 0), b(0, 1, 0), c(2, 1.2, 0), d(2, 0, 0), z(0, 0, 1);
   m.add_body(box("crank", 1, 0.5 * (a + b)));
   m.add_body(box("coupler", 2, 0.5 * (b + c)));
@@ -300,7 +287,7 @@ TEST(Step, RopesAndLimitsAreNeverViolated) {
   // (a) three bodies on ropes from the ground, released sideways: the ropes go taut and swing
   Mechanism ropes;
   ropes.name = "ropes";
-  ropes.add_body(ground());
+  ropes.add_body(static_body("ground"));
   for (int i = 0; i < 3; ++i) {
     ropes.add_body(box(numbered("b", i), 1 + i, Eigen::Vector3d(0.6 * (i + 1), 0.2, 0)));
     ropes.add_constraint(ropes.distance(ConstraintType::rope, i, i + 1, ropes.bodies[i].position, ropes.bodies[i + 1].position, 0.7));
@@ -309,7 +296,7 @@ TEST(Step, RopesAndLimitsAreNeverViolated) {
   Mechanism door;
   door.name = "door";
   door.gravity.setZero();
-  door.add_body(ground());
+  door.add_body(static_body("ground"));
   door.add_body(box("door", 5, Eigen::Vector3d(0.5, 0, 0), 1.0));
   door.bodies[1].angular_velocity = Eigen::Vector3d(0, 4, 0);
   door.bodies[1].linear_velocity = Eigen::Vector3d(0, 0, -2);
@@ -319,7 +306,7 @@ TEST(Step, RopesAndLimitsAreNeverViolated) {
   // (c) a slider on a vertical prismatic joint falling onto its lower limit at -0.2 m
   Mechanism slider;
   slider.name = "slider";
-  slider.add_body(ground());
+  slider.add_body(static_body("ground"));
   slider.add_body(box("slider", 2, Eigen::Vector3d(0, 0, 0)));
   slider.add_constraint(slider.axial(ConstraintType::prismatic, 0, 1, Eigen::Vector3d::Zero(), y));
   slider.add_constraint(slider.positional_limit(0, 1, Eigen::Vector3d::Zero(), y, -0.2, 0.2));
@@ -454,7 +441,7 @@ Mechanism ground_and(const char* name, const RigidBody& body) {
   Mechanism m;
   m.name = name;
   m.gravity.setZero();
-  m.add_body(ground());
+  m.add_body(static_body("ground"));
   m.add_body(body);
   return m;
 }
@@ -493,7 +480,7 @@ Mechanism mixed_3d_chain(bool limits) {
   Mechanism m;
   m.name = "mixed-3d-chain";
   m.timestep = 0.01;
-  m.add_body(ground());
+  m.add_body(static_body("ground"));
   const double l = 0.2;
   for (int i = 0; i < 30; ++i) {
     RigidBody link = box(numbered("link", i), 1 + 0.1 * (i % 4), Eigen::Vector3d(l * (i + 0.5), 0, 0), l);
@@ -918,7 +905,7 @@ TEST(LdlpgsRobust, UnshatteredStarIsOneDenseSupernodeAndSteps) {
   const int arms = 300;
   Mechanism m;
   m.name = "star";
-  m.add_body(ground());
+  m.add_body(static_body("ground"));
   m.add_body(box("hub", 10, Eigen::Vector3d(0, 5, 0)));
   m.add_constraint(m.ball(0, 1, Eigen::Vector3d(0, 5, 0)));
   for (int i = 0; i < arms; ++i) {
