@@ -29,7 +29,7 @@ packages=(cmake g++ make libsuitesparse-dev libmetis-dev libeigen3-dev libgtest-
 # that CHOLMOD supernodal is timed as on a user's machine (papers/factor.md, "BLAS: CHOLMOD supernodal with the reference BLAS and with OpenBLAS");
 # `ldlpgs bench` prints the BLAS in use)
 # (libjs-three: three.js, compiled into the viewer's page, view/; chromium and python3-pil: the
-# page's test in a headless browser, tests/view_browser_test.py)
+# page's test in a headless browser, tests/view/view_browser_test.py)
 
 install_missing() {
   local missing=()

@@ -33,7 +33,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     fuzz::finding(std::string("unexpected exception: ") + e.what());
   }
   // The writer's JSON of an accepted scene must not crash the reader either (whether it is
-  // accepted again is the physics layer's round-trip test, tests/scene_test.cpp).
+  // accepted again is the physics layer's round-trip test, tests/physics/scene_test.cpp).
   fuzz::accepted([&] { parse_scene(scene_to_json(m), "round trip"); });
   return 0;
 }

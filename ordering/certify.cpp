@@ -45,7 +45,7 @@
 //    (0: every triangulation contains G). Inside the search, for a connected set C, block v sees
 //    at least its neighbours outside C and its neighbours in C eliminated after it; each edge
 //    (u, v) inside C adds d_u d_v (d_u + d_v + 1) whichever of the two goes first.
-// tests/certify_test.cpp checks all of it against brute force over every order of small graphs.
+// tests/ordering/certify_test.cpp checks all of it against brute force over every order of small graphs.
 #include "ldlpgs/ordering/certify.h"
 
 #include <algorithm>

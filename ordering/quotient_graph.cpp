@@ -9,7 +9,7 @@
 // 0. That alone does not see original edges among the neighbours (no block of the input graph
 // looks simplicial), and left fill on trees; where the neighbourhood is small the fill is
 // therefore counted exactly (exact_fill below), which restores meca's zero fill on chordal
-// block graphs (tests/quotient_graph_test.cpp fails without it).
+// block graphs (tests/ordering/quotient_graph_test.cpp fails without it).
 //
 // Lists are std::vectors per variable and element rather than AMD's single workspace: simpler,
 // and at 1e5 blocks not the bottleneck (bench/orderings_bench). The queue is a binary heap of the

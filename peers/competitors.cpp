@@ -117,7 +117,7 @@ class CholmodSolver final : public DirectSolver {
     // our one column (ptrans in cholmod_solve.c); the next call finds the wrong shape and frees
     // and reallocates Y. Giving the header back the shape it was allocated with (its memory
     // holds 4 n entries) keeps it. Should CHOLMOD change that shape, it reallocates as before
-    // (tests/competitors_test.cpp counts the allocations).
+    // (tests/peers/competitors_test.cpp counts the allocations).
     if (!supernodal_ && held_.y != nullptr && held_.y->nzmax >= 4 * static_cast<size_t>(n_)) {
       held_.y->nrow = held_.y->d = 4;
       held_.y->ncol = static_cast<size_t>(n_);

@@ -5,7 +5,7 @@
 // bodies by their shapes, the joints' anchors, the contacts' impulses as arrows, a time slider,
 // play and pause, the speed, and a plot of the separation and penetration against time; opened
 // as page.html#t=1.5 it shows that time, paused, and logs a check of what it drew (the browser
-// test, tests/view_browser_test.py).
+// test, tests/view/view_browser_test.py).
 #include <cstddef>
 #include <ostream>
 #include <string>

@@ -1,0 +1,708 @@
+// MJCF models as mechanisms (physics/mjcf.h), checked against MuJoCo itself: for every shipped
+// model we can represent, the counts and masses MuJoCo reports, the centres of mass of its
+// kinematics, and, at random configurations MuJoCo computes, that every joint row holds (c = 0)
+// and annihilates every motion MuJoCo's coordinates allow (J V = 0 for the Jacobian of each dof)
+// while the rows number exactly 6 n - nv: the rows remove exactly the degrees of freedom the
+// joints do not allow. Then the humanoid in free fall, and one named test per bad input.
+#include "ldlpgs/physics/mjcf.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "ldlpgs/physics/step.h"
+#include "ldlpgs/sparse/error.h"
+#include "tests/support/temp_files.h"
+
+#ifdef LDLPGS_HAVE_MUJOCO
+#include <mujoco/mujoco.h>
+#endif
+
+namespace ldlpgs {
+namespace {
+
+using Eigen::Vector3d;
+using testing::temp_file;
+
+// The message of the InputError that loading `path` throws ("" if it loads).
+std::string load_error(const std::string& path) {
+  try {
+    load_mjcf(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+#ifndef LDLPGS_HAVE_MUJOCO
+
+TEST(Mjcf, WithoutMuJoCoEveryModelIsRefused) {
+  const std::string message = load_error("model.xml");
+  EXPECT_NE(message.find("model.xml: MJCF models need MuJoCo"), std::string::npos) << message;
+}
+
+#else
+
+const std::string kModels = "/usr/share/mujoco/model";
+
+struct ModelDeleter {
+  void operator()(mjModel* m) const { mj_deleteModel(m); }
+};
+struct DataDeleter {
+  void operator()(mjData* d) const { mj_deleteData(d); }
+};
+using ModelPtr = std::unique_ptr<mjModel, ModelDeleter>;
+using DataPtr = std::unique_ptr<mjData, DataDeleter>;
+
+ModelPtr mujoco_model(const std::string& path) {
+  char error[1024] = "";
+  ModelPtr m(mj_loadXML(path.c_str(), nullptr, error, sizeof error));
+  EXPECT_TRUE(m) << path << ": " << error;
+  return m;
+}
+
+std::vector<std::string> shipped_models() {
+  std::vector<std::string> paths;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(kModels, ec))
+    if (entry.path().extension() == ".xml") paths.push_back(entry.path().string());
+  std::sort(paths.begin(), paths.end());
+  return paths;
+}
+
+// Equalities the converter turns into constraints (mjcf.h: after all the joints' constraints).
+int converted_equalities(const mjModel* m) {
+  int n = 0;
+  for (int e = 0; e < m->neq; ++e) {
+    const bool body_type = m->eq_type[e] == mjEQ_CONNECT || m->eq_type[e] == mjEQ_WELD;
+    const bool both_static = m->body_weldid[m->eq_obj1id[e]] == 0 && m->body_weldid[m->eq_obj2id[e]] == 0;
+    n += m->eq_active[e] && body_type && !both_static ? 1 : 0;
+  }
+  return n;
+}
+
+// Poses (xipos, ximat, ...), subtree centres of mass and the dof axes the Jacobians use; no
+// collision detection (MuJoCo would warn of full contact buffers on the piled-up composites).
+void kinematics(const mjModel* m, mjData* d) {
+  mj_kinematics(m, d);
+  mj_comPos(m, d);
+}
+
+// A random configuration: every coordinate moved from qpos0 (hinges, slides by up to 0.5;
+// quaternions turned by up to ~0.5 rad; free positions shifted).
+void random_configuration(const mjModel* m, mjData* d, std::mt19937* rng) {
+  std::uniform_real_distribution<double> u(-0.5, 0.5);
+  mju_copy(d->qpos, m->qpos0, m->nq);
+  for (int j = 0; j < m->njnt; ++j) {
+    mjtNum* q = d->qpos + m->jnt_qposadr[j];
+    switch (m->jnt_type[j]) {
+      case mjJNT_FREE:
+        for (int k = 0; k < 3; ++k) q[k] += u(*rng);
+        q += 3;
+        [[fallthrough]];
+      case mjJNT_BALL: {
+        const Eigen::Quaterniond turn(Eigen::AngleAxisd(u(*rng), Vector3d(u(*rng), u(*rng), 1).normalized()));
+        const Eigen::Quaterniond q1 = Eigen::Quaterniond(q[0], q[1], q[2], q[3]) * turn;
+        q[0] = q1.w(), q[1] = q1.x(), q[2] = q1.y(), q[3] = q1.z();
+        break;
+      }
+      default: q[0] += u(*rng);
+    }
+  }
+  mju_zero(d->qvel, m->nv);
+  kinematics(m, d);
+}
+
+// Our bodies put at MuJoCo's current pose (centre of mass xipos, principal frame ximat).
+void set_poses(const mjData* d, Mechanism* mech) {
+  for (size_t b = 0; b < mech->bodies.size(); ++b) {
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> r(d->ximat + 9 * b);
+    mech->bodies[b].position = Vector3d(d->xipos + 3 * b);
+    mech->bodies[b].orientation = Eigen::Quaterniond(Eigen::Matrix3d(r)).normalized();
+  }
+}
+
+// Body velocities (v at the centre of mass, w; world) of MuJoCo's unit motion qvel = e_k, for
+// every dof k: jac[b] is 6 x nv (mj_jacBodyCom).
+std::vector<Eigen::MatrixXd> body_jacobians(const mjModel* m, const mjData* d) {
+  std::vector<Eigen::MatrixXd> jac(m->nbody, Eigen::MatrixXd::Zero(6, m->nv));  // (size nbody)
+  std::vector<mjtNum> jacp(3 * m->nv), jacr(3 * m->nv);                            // row-major 3 x nv
+  for (int b = 1; b < m->nbody; ++b) {
+    mj_jacBodyCom(m, d, jacp.data(), jacr.data(), b);
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < m->nv; ++k) {
+        jac[b](r, k) = jacp[r * m->nv + k];
+        jac[b](3 + r, k) = jacr[r * m->nv + k];
+      }
+  }
+  return jac;
+}
+
+// J V for all dofs: rows x nv.
+Eigen::MatrixXd rows_times_motions(const ConstraintRows& rows, const Constraint& c,
+                                   const std::vector<Eigen::MatrixXd>& jac) {
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 12, Eigen::RowMajor>> j(rows.jacobian.data(), rows.rows, 12);
+  return j.leftCols(6) * jac[c.body_a] + j.rightCols(6) * jac[c.body_b];
+}
+
+// Rounding in MuJoCo's kinematics and ours at positions of O(10 m) and lever arms of O(1 m):
+// a wrong anchor, axis or frame gives errors of the size of the configuration change (0.1-1).
+constexpr double kRounding = 1e-10;
+
+// Our shapes against MuJoCo's geoms at the pose of d (mj_kinematics at qpos0, the pose of
+// load_mjcf's bodies): for every geom of a type shape.h has, in MuJoCo's order on its body, the
+// type, the sizes, the sliding friction and the filter bits as mjModel has them, and the world
+// pose: to_world(position) = geom_xpos, the body's orientation times the shape's = geom_xmat, a
+// plane's normal = geom_xmat's z (on a static body). MuJoCo's kinematics compose the poses
+// through the body frames (xpos, xquat); the converter through the inertial frame (ipos, iquat).
+struct ShapeCounts {
+  std::array<int, 4> of_type{};  // by ShapeType
+  int dropped = 0;               // geoms of the other types
+};
+
+// Geoms of the kinematics at O(10 m) (the 22 humanoids): rounding is ~1e-14.
+constexpr double kGeomPose = 1e-9;
+
+ShapeCounts expect_shapes_match(const mjModel* m, const mjData* d, const Mechanism& mech) {
+  ShapeCounts counts;
+  for (int b = 0; b < m->nbody; ++b) {
+    const RigidBody& body = mech.bodies[b];
+    size_t k = 0;  // the next shape of the body
+    for (int g = m->body_geomadr[b]; g >= 0 && g < m->body_geomadr[b] + m->body_geomnum[b]; ++g) {
+      SCOPED_TRACE("geom " + std::to_string(g) + " on body " + body.name);
+      ShapeType type;
+      switch (m->geom_type[g]) {
+        case mjGEOM_PLANE: type = ShapeType::plane; break;
+        case mjGEOM_SPHERE: type = ShapeType::sphere; break;
+        case mjGEOM_CAPSULE: type = ShapeType::capsule; break;
+        case mjGEOM_BOX: type = ShapeType::box; break;
+        default: ++counts.dropped; continue;
+      }
+      if (k == body.shapes.size()) {
+        ADD_FAILURE() << "no shape for the geom";
+        break;
+      }
+      const Shape& s = body.shapes[k++];
+      ++counts.of_type[static_cast<int>(type)];
+      EXPECT_EQ(s.type, type);
+      const mjtNum* size = m->geom_size + 3 * g;
+      switch (type) {
+        case ShapeType::plane: break;  // its size only draws it
+        case ShapeType::capsule: EXPECT_EQ(s.half_length, size[1]); [[fallthrough]];
+        case ShapeType::sphere: EXPECT_EQ(s.radius, size[0]); break;
+        case ShapeType::box: EXPECT_EQ(s.half_extents, Vector3d(size)); break;
+      }
+      EXPECT_EQ(s.friction, m->geom_friction[3 * g]);
+      EXPECT_EQ(s.contype, static_cast<uint32_t>(m->geom_contype[g]));
+      EXPECT_EQ(s.conaffinity, static_cast<uint32_t>(m->geom_conaffinity[g]));
+      EXPECT_LE((body.to_world(s.position) - Vector3d(d->geom_xpos + 3 * g)).norm(), kGeomPose);
+      const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> xmat(d->geom_xmat + 9 * g);
+      if (type == ShapeType::plane) {
+        EXPECT_TRUE(body.is_static);
+        EXPECT_LE((body.orientation * s.normal - xmat.col(2)).norm(), kGeomPose);
+      } else {
+        EXPECT_LE(((body.orientation * s.orientation).toRotationMatrix() - xmat).norm(), kGeomPose);
+      }
+    }
+    EXPECT_EQ(k, body.shapes.size()) << "shapes without a geom on body " << body.name;
+  }
+  return counts;
+}
+
+TEST(Mjcf, ShippedModelsMatchMuJoCo) {
+  std::mt19937 rng(6);
+  int loaded = 0;
+  for (const std::string& path : shipped_models()) {
+    MjcfDropped dropped;
+    Mechanism mech;
+    try {
+      mech = load_mjcf(path, &dropped);
+    } catch (const InputError& e) {
+      const std::string error = e.what();
+      std::printf("skipped %s: %s\n", path.c_str(), error.c_str());
+      EXPECT_EQ(error.rfind(path + ": ", 0), 0u) << "the message names the file: " << error;
+      continue;
+    }
+    ++loaded;
+    SCOPED_TRACE(path);
+    const ModelPtr model = mujoco_model(path);
+    ASSERT_TRUE(model);
+    const mjModel* m = model.get();
+    const DataPtr data(mj_makeData(m));
+    mjData* d = data.get();
+    kinematics(m, d);
+
+    // Counts, masses, gravity, timestep.
+    ASSERT_EQ(static_cast<int>(mech.bodies.size()), m->nbody);
+    const ShapeCounts shapes = expect_shapes_match(m, d, mech);
+    EXPECT_EQ(dropped.geoms, shapes.dropped);
+    EXPECT_EQ(shapes.of_type[0] + shapes.of_type[1] + shapes.of_type[2] + shapes.of_type[3] + shapes.dropped, m->ngeom);
+    double mass = 0;
+    Vector3d moment = Vector3d::Zero();
+    for (const RigidBody& b : mech.bodies) {
+      mass += b.mass;
+      moment += b.mass * b.position;
+    }
+    EXPECT_NEAR(mass, mj_getTotalmass(m), 1e-12 * mass);
+    EXPECT_LE((moment / mass - Vector3d(d->subtree_com)).norm(), kRounding) << "whole-model centre of mass";
+    for (int b = 0; b < m->nbody; ++b)
+      EXPECT_LE((mech.bodies[b].position - Vector3d(d->xipos + 3 * b)).norm(), kRounding) << "body " << b;
+    EXPECT_EQ(mech.gravity, Vector3d(m->opt.gravity));
+    EXPECT_EQ(mech.timestep, m->opt.timestep);
+
+    // Degrees of freedom: the joints' equality rows remove exactly 6 n - nv of the 6 n.
+    const int equalities = converted_equalities(m);
+    const size_t joint_constraints = mech.constraints.size() - equalities;
+    int joint_rows = 0;
+    for (size_t c = 0; c < joint_constraints; ++c)
+      if (is_equality(mech.constraints[c].type)) joint_rows += num_rows(mech.constraints[c].type);
+    EXPECT_EQ(6 * mech.num_dynamic_bodies() - joint_rows, m->nv) << "degrees of freedom";
+
+    // At qpos0 every row holds, equalities included.
+    for (const Constraint& c : mech.constraints) {
+      const ConstraintRows rows = evaluate(c, mech.bodies[c.body_a], mech.bodies[c.body_b]);
+      if (is_equality(c.type)) {
+        for (int r = 0; r < rows.rows; ++r) EXPECT_LE(std::abs(rows.c[r]), kRounding) << to_string(c.type);
+      } else if (c.type == ConstraintType::angular_limit || c.type == ConstraintType::positional_limit) {
+        EXPECT_LE(std::abs(limit_value(c, mech.bodies[c.body_a], mech.bodies[c.body_b])), kRounding);
+      }
+    }
+
+    // At random configurations of MuJoCo's coordinates: the joints' rows still hold and their
+    // Jacobian annihilates every dof's motion; each limit moves with exactly one coordinate, at
+    // unit rate, and measures it (q - qpos0).
+    // The dense check costs O(nbody nv) memory and O(rows nv) time per trial: the many-humanoid
+    // models (nv in the hundreds and thousands) are copies of humanoid.xml's joints, checked there.
+    if (m->nv > 100) {
+      std::printf("%s: nv = %d, random configurations checked on the smaller models only\n", path.c_str(), m->nv);
+      continue;
+    }
+    for (int trial = 0; trial < 3; ++trial) {
+      random_configuration(m, d, &rng);
+      set_poses(d, &mech);
+      const std::vector<Eigen::MatrixXd> jac = body_jacobians(m, d);
+      double worst_c = 0, worst_jv = 0;
+      for (size_t ci = 0; ci < joint_constraints; ++ci) {
+        const Constraint& c = mech.constraints[ci];
+        const ConstraintRows rows = evaluate(c, mech.bodies[c.body_a], mech.bodies[c.body_b]);
+        const Eigen::MatrixXd jv = rows_times_motions(rows, c, jac);
+        if (is_equality(c.type)) {
+          for (int r = 0; r < rows.rows; ++r) worst_c = std::max(worst_c, std::abs(rows.c[r]));
+          worst_jv = std::max(worst_jv, jv.cwiseAbs().maxCoeff());
+          continue;
+        }
+        // A limit: one coordinate k with |J V_k| = 1, all others 0.
+        Eigen::Index k = 0;
+        jv.row(0).cwiseAbs().maxCoeff(&k);
+        EXPECT_NEAR(std::abs(jv(0, k)), 1.0, kRounding) << to_string(c.type) << " " << ci;
+        EXPECT_LE(jv.row(0).cwiseAbs().sum() - std::abs(jv(0, k)), kRounding) << "one coordinate only";
+        int joint = 0;
+        while (joint + 1 < m->njnt && m->jnt_dofadr[joint + 1] <= k) ++joint;
+        const double q = d->qpos[m->jnt_qposadr[joint]] - m->qpos0[m->jnt_qposadr[joint]];
+        // The row is the nearer side of the limit: the max side is negated (constraint.h).
+        const double value = limit_value(c, mech.bodies[c.body_a], mech.bodies[c.body_b]);
+        const bool max_side = value - c.min > c.max - value;
+        EXPECT_NEAR(value, (jv(0, k) > 0) != max_side ? q : -q, kRounding) << "limit " << ci << " on joint " << joint;
+      }
+      EXPECT_LE(worst_c, kRounding) << "joint rows at a MuJoCo configuration";
+      EXPECT_LE(worst_jv, kRounding) << "J V of MuJoCo's motions";
+    }
+  }
+  std::printf("%d shipped models loaded\n", loaded);
+  EXPECT_GE(loaded, 8) << "humanoids, rope, loop, slider crank, arm, mug, scene";
+}
+
+// Body velocities of MuJoCo's motion qvel (v at the centre of mass, w; world).
+void set_velocities(const mjModel* m, const mjData* d, Mechanism* mech) {
+  const std::vector<Eigen::MatrixXd> jac = body_jacobians(m, d);
+  const Eigen::Map<const Eigen::VectorXd> qvel(d->qvel, m->nv);
+  for (int b = 1; b < m->nbody; ++b) {
+    const Eigen::Matrix<double, 6, 1> v = jac[b] * qvel;
+    mech->bodies[b].linear_velocity = v.head<3>();
+    mech->bodies[b].angular_velocity = v.tail<3>();
+  }
+}
+
+struct Fall {
+  double separation = 0;  // largest |anchor_a - anchor_b| of the ball-based rows over the run (m)
+  ConstraintError error;  // largest over the run
+  double com_error = 0;   // largest |com - (p0 + v0 t + g t (t + dt) / 2)| (m)
+};
+
+Fall fall(Mechanism mech, double seconds) {
+  double mass = 0;
+  Vector3d p0 = Vector3d::Zero(), v0 = Vector3d::Zero();
+  for (const RigidBody& b : mech.bodies)
+    if (!b.is_static) {
+      mass += b.mass;
+      p0 += b.mass * b.position;
+      v0 += b.mass * b.linear_velocity;
+    }
+  p0 /= mass;
+  v0 /= mass;
+  const Vector3d g = mech.gravity;
+  const double dt = mech.timestep;
+  StepOptions options;
+  options.solver.kind = SolverKind::ldl_pgs;  // the humanoid's joint ranges are inequalities
+  options.diagnostics = true;
+  Simulation sim(std::move(mech), options);
+  Fall out;
+  const int steps = static_cast<int>(std::lround(seconds / dt));
+  for (int s = 1; s <= steps; ++s) {
+    const StepReport r = sim.step();
+    EXPECT_TRUE(r.result.ok()) << "step " << s;
+    const Mechanism& now = sim.mechanism();
+    for (const Constraint& c : now.constraints) {
+      if (c.type != ConstraintType::ball && c.type != ConstraintType::hinge && c.type != ConstraintType::weld) continue;
+      const Vector3d a = now.bodies[c.body_a].to_world(c.anchor_a), b = now.bodies[c.body_b].to_world(c.anchor_b);
+      out.separation = std::max(out.separation, (a - b).norm());
+    }
+    out.error.position_max = std::max(out.error.position_max, r.error.position_max);
+    out.error.angular_max = std::max(out.error.angular_max, r.error.angular_max);
+    // Semi-implicit Euler: v_n = v0 + n g dt (the constraint impulses J^T lambda have no net
+    // linear part), x_n = x0 + dt sum_{k=1..n} v_k = x0 + v0 t + g t (t + dt) / 2 with t = n dt:
+    // the continuous p0 + v0 t + g t^2 / 2 plus g t dt / 2, the timestep's first-order error.
+    const double t = s * dt;
+    Vector3d com = Vector3d::Zero();
+    for (const RigidBody& b : now.bodies)
+      if (!b.is_static) com += b.mass * b.position;
+    com /= mass;
+    out.com_error = std::max(out.com_error, (com - (p0 + v0 * t + g * (t * (t + dt) / 2))).norm());
+  }
+  return out;
+}
+
+// The free fall of 2 s moves the centre of mass 20 m; 400 steps of rounding at that size are
+// ~1e-12 m. The discrete formula is exact up to that; against the continuous one the gap is
+// g t dt / 2 = 0.049 m at t = 2 s, dt = 5 ms.
+constexpr double kComRounding = 1e-10;
+
+// The humanoid without its shapes: a free fall, away from its floor.
+Mechanism without_shapes(Mechanism m) {
+  for (RigidBody& b : m.bodies) b.shapes.clear();
+  return m;
+}
+
+TEST(Mjcf, HumanoidFallingAtRestStaysTogether) {
+  const Fall f = fall(without_shapes(load_mjcf(kModels + "/humanoid/humanoid.xml")), 2.0);
+  std::printf("humanoid at rest, 2 s: separation %.3g m, rows %.3g m / %.3g rad, centre of mass %.3g m\n",
+              f.separation, f.error.position_max, f.error.angular_max, f.com_error);
+  EXPECT_LT(f.separation, 1e-6);
+  EXPECT_LT(f.error.position_max, 1e-6);
+  EXPECT_LT(f.com_error, kComRounding);
+}
+
+// The same fall with every joint moving (a random qvel of MuJoCo's, so the velocities respect the
+// joints): the centre of mass still follows the formula; the separation is reported (velocity
+// steps drift by ~|w|^2 r dt^2 per step, which Baumgarte corrects).
+TEST(Mjcf, HumanoidFallingWhileMovingFollowsFreeFall) {
+  const std::string path = kModels + "/humanoid/humanoid.xml";
+  Mechanism mech = without_shapes(load_mjcf(path));
+  const ModelPtr model = mujoco_model(path);
+  ASSERT_TRUE(model);
+  const DataPtr data(mj_makeData(model.get()));
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> u(-1, 1);  // rad/s, m/s
+  for (int k = 0; k < model->nv; ++k) data->qvel[k] = u(rng);
+  kinematics(model.get(), data.get());
+  set_velocities(model.get(), data.get(), &mech);
+  const Fall f = fall(std::move(mech), 2.0);
+  std::printf("humanoid moving (qvel in [-1, 1]), 2 s: separation %.3g m, rows %.3g m / %.3g rad, centre of mass %.3g m\n",
+              f.separation, f.error.position_max, f.error.angular_max, f.com_error);
+  EXPECT_LT(f.com_error, kComRounding);
+}
+
+TEST(Mjcf, DroppedIsCountedAndDescribed) {
+  MjcfDropped dropped;
+  load_mjcf(kModels + "/humanoid/humanoid.xml", &dropped);
+  EXPECT_EQ(dropped.geoms, 0) << "planes, spheres and capsules: all shapes";
+  EXPECT_EQ(dropped.actuators, 21);
+  EXPECT_EQ(dropped.ranges, 6) << "the two hips' three hinges";
+  const std::string line = describe(dropped);
+  EXPECT_EQ(line.find("geoms"), std::string::npos) << line;
+  EXPECT_NE(line.find("21 actuators"), std::string::npos) << line;
+  EXPECT_EQ(line.find('\n'), std::string::npos) << "one line";
+  // geoms of types without a shape, and explicit contact pairs and excludes
+  const std::string path = temp_file("dropped.xml", "<mujoco><worldbody><body name=\"a\"><freejoint/>"
+                                                    "<geom type=\"cylinder\" size=\".1 .2\"/><geom type=\"ellipsoid\" "
+                                                    "size=\".1 .2 .3\"/><geom type=\"sphere\" size=\".1\"/></body>"
+                                                    "<body name=\"b\"><freejoint/><geom type=\"box\" size=\".1 .1 .1\"/>"
+                                                    "</body></worldbody><contact><exclude body1=\"a\" body2=\"b\"/>"
+                                                    "</contact></mujoco>");
+  dropped = MjcfDropped{};
+  const Mechanism m = load_mjcf(path, &dropped);
+  EXPECT_EQ(dropped.geoms, 2);
+  EXPECT_EQ(dropped.contact_pairs, 1);
+  EXPECT_EQ(m.bodies[1].shapes.size(), 1u);
+  EXPECT_EQ(m.bodies[2].shapes.size(), 1u);
+  EXPECT_EQ(describe(dropped),
+            "dropped: 2 geoms of types without a shape (hfield, ellipsoid, cylinder, mesh: no contacts), "
+            "1 contact pairs and excludes");
+}
+
+// The humanoid's geoms: the floor a plane on the static world, 16 capsules and 3 spheres on the
+// 16 moving bodies, each as MuJoCo compiled it (expect_shapes_match).
+TEST(Mjcf, HumanoidShapesMatchMuJoCo) {
+  const std::string path = kModels + "/humanoid/humanoid.xml";
+  const Mechanism mech = load_mjcf(path);
+  const ModelPtr model = mujoco_model(path);
+  ASSERT_TRUE(model);
+  const DataPtr data(mj_makeData(model.get()));
+  kinematics(model.get(), data.get());
+  const ShapeCounts counts = expect_shapes_match(model.get(), data.get(), mech);
+  EXPECT_EQ(counts.of_type[static_cast<int>(ShapeType::plane)], 1);
+  EXPECT_EQ(counts.of_type[static_cast<int>(ShapeType::capsule)], 16);
+  EXPECT_EQ(counts.of_type[static_cast<int>(ShapeType::sphere)], 3);
+  EXPECT_EQ(counts.of_type[static_cast<int>(ShapeType::box)], 0);
+  EXPECT_EQ(counts.dropped, 0);
+  ASSERT_EQ(mech.bodies[0].shapes.size(), 1u);
+  EXPECT_TRUE(mech.bodies[0].is_static);
+  EXPECT_EQ(mech.bodies[0].shapes[0].type, ShapeType::plane) << "the floor";
+  EXPECT_EQ(mech.bodies[0].shapes[0].normal, Vector3d(0, 0, 1));
+  // the torso is free: every joint joins two moving bodies, a parent and its child, which
+  // MuJoCo's filterparent keeps apart
+  for (const Constraint& c : mech.constraints) EXPECT_FALSE(c.collide);
+}
+
+// Constraint::collide as MuJoCo's body-pair filter: a body collides with the world it is
+// hinged to, not with a moving parent unless filterparent is disabled; bodies welded together
+// (no joint) never; an equality between unrelated bodies does not keep them apart.
+TEST(Mjcf, CollideFollowsMuJoCosFilter) {
+  const std::string bodies =
+      "<worldbody><body name=\"a\"><joint axis=\"1 0 0\"/><geom size=\".1\"/>"
+      "<body name=\"b\" pos=\"0 0 1\"><joint axis=\"1 0 0\"/><geom size=\".1\"/>"
+      "<body name=\"c\" pos=\"0 0 1\"><geom size=\".1\"/></body></body></body>"
+      "<body name=\"d\" pos=\"2 0 0\"><freejoint/><geom size=\".1\"/></body></worldbody>"
+      "<equality><connect body1=\"a\" body2=\"d\" anchor=\"1 0 0\"/></equality></mujoco>";
+  for (const bool filterparent : {true, false}) {
+    const Mechanism m = load_mjcf(temp_file("collide.xml", std::string("<mujoco>") +
+                                                                (filterparent ? "" : "<option><flag filterparent=\"disable\"/></option>") +
+                                                                bodies));
+    SCOPED_TRACE(filterparent ? "filterparent" : "filterparent disabled");
+    ASSERT_EQ(m.constraints.size(), 4u);
+    const auto joins = [&](size_t i, const char* x, const char* y) {
+      return m.bodies[m.constraints[i].body_a].name == x && m.bodies[m.constraints[i].body_b].name == y;
+    };
+    ASSERT_TRUE(joins(0, "world", "a") && joins(1, "a", "b") && joins(2, "b", "c") && joins(3, "a", "d"));
+    EXPECT_TRUE(m.constraints[0].collide) << "the world hinge: MuJoCo collides bodies with the world";
+    EXPECT_EQ(m.constraints[1].collide, !filterparent) << "parent and child";
+    EXPECT_FALSE(m.constraints[2].collide) << "one weld group";
+    EXPECT_TRUE(m.constraints[3].collide) << "an equality between unrelated bodies";
+  }
+}
+
+// Bad input: the message names the file and the construct.
+void expect_refused(const std::string& path, std::initializer_list<std::string> fragments) {
+  const std::string message = load_error(path);
+  ASSERT_FALSE(message.empty()) << path << " loaded";
+  EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+  for (const std::string& f : fragments) EXPECT_NE(message.find(f), std::string::npos) << "'" << f << "' not in: " << message;
+}
+
+const std::string kBody = R"(<geom type="sphere" size=".1"/>)";
+
+TEST(MjcfBadInput, UnparsableFile) {
+  expect_refused(temp_file("broken.xml", "<mujoco><worldbody><body></worldbody>"), {"MuJoCo cannot load it"});
+}
+
+TEST(MjcfBadInput, MissingFile) { expect_refused("/nonexistent/model.xml", {"MuJoCo cannot load it"}); }
+
+// Read whole, a directory named *.xml threw ios_base::failure: exit 3, "internal error".
+TEST(MjcfBadInput, DirectoryNamedXml) {
+  const std::string dir = testing::temp_path("model-dir.xml");
+  std::filesystem::create_directories(dir);
+  expect_refused(dir, {"it is a directory"});
+}
+
+// Not XML: refused at its first chunk (a 2 GB file of NUL bytes had been read whole, /dev/zero forever).
+TEST(MjcfBadInput, NotXml) {
+  expect_refused(temp_file("nul.xml", std::string(100000, '\0')), {"not an MJCF (XML) file"});
+  expect_refused(temp_file("text.xml", "  mujoco"), {"does not start with '<'"});
+}
+
+TEST(MjcfBadInput, ThreeSlides) {
+  expect_refused(temp_file("slides.xml", "<mujoco><worldbody><body name=\"box\"><joint name=\"x\" type=\"slide\" axis=\"1 0 0\"/>"
+                                         "<joint name=\"y\" type=\"slide\" axis=\"0 1 0\"/><joint name=\"z\" type=\"slide\" "
+                                         "axis=\"0 0 1\"/>" + kBody + "</body></worldbody></mujoco>"),
+                 {"body \"box\"", "x (slide), y (slide), z (slide)", "3 rotational rows"});
+}
+
+// Two hinges on skew axes are a universal joint (the humanoid's ankles); three are not a ball.
+TEST(MjcfBadInput, ThreeHingesWhoseAxesDoNotMeet) {
+  expect_refused(temp_file("offset.xml", "<mujoco><worldbody><body name=\"arm\"><joint name=\"a\" axis=\"1 0 0\"/>"
+                                         "<joint name=\"b\" axis=\"0 1 0\" pos=\"0 0 .5\"/><joint name=\"c\" "
+                                         "axis=\"0 0 1\"/>" + kBody + "</body></worldbody></mujoco>"),
+                 {"body \"arm\"", "a (hinge), b (hinge), c (hinge)", "do not meet"});
+}
+
+TEST(MjcfBadInput, HingeAndSlideOnDifferentAxes) {
+  expect_refused(temp_file("hs.xml", "<mujoco><worldbody><body name=\"arm\"><joint name=\"a\" axis=\"1 0 0\"/>"
+                                     "<joint name=\"b\" type=\"slide\" axis=\"0 1 0\"/>" + kBody +
+                                     "</body></worldbody></mujoco>"),
+                 {"body \"arm\"", "a (hinge), b (slide)", "different axes"});
+}
+
+// MuJoCo accepts a sphere of 2e9 m and a negative friction; shape_problem does not (MuJoCo
+// itself refuses a plane on a moving body).
+TEST(MjcfBadInput, GeomOutsideTheShapeRanges) {
+  const std::string start = "<mujoco><worldbody><body name=\"arm\"><joint axis=\"1 0 0\"/>";
+  expect_refused(temp_file("big.xml", start + "<geom name=\"ball\" size=\"2e9\"/></body></worldbody></mujoco>"),
+                 {"geom \"ball\" on body \"arm\": radius 2e+09 is not in (0, 1e9] m"});
+  expect_refused(temp_file("friction.xml", start + "<geom name=\"ball\" size=\".1\" friction=\"-1 0 0\"/></body>"
+                                                   "</worldbody></mujoco>"),
+                 {"geom \"ball\" on body \"arm\": friction -1 is not finite and >= 0"});
+  expect_refused(temp_file("plane.xml", start + "<geom name=\"floor\" type=\"plane\" size=\"1 1 1\"/></body>"
+                                                "</worldbody></mujoco>"),
+                 {"MuJoCo cannot load it", "plane"});
+}
+
+TEST(MjcfBadInput, JointEquality) {
+  expect_refused(temp_file("coupled.xml", "<mujoco><worldbody><body><joint name=\"a\"/>" + kBody +
+                                          "</body><body><joint name=\"b\"/>" + kBody + "</body></worldbody>"
+                                          "<equality><joint name=\"gear\" joint1=\"a\" joint2=\"b\"/></equality></mujoco>"),
+                 {"equality \"gear\" (joint)"});
+}
+
+TEST(MjcfBadInput, WeldAwayFromItsRelpose) {
+  expect_refused(temp_file("weld.xml", "<mujoco><worldbody><body name=\"a\"><freejoint/>" + kBody +
+                                       "</body><body name=\"b\" pos=\"1 0 0\"><freejoint/>" + kBody + "</body></worldbody>"
+                                       "<equality><weld name=\"w\" body1=\"a\" body2=\"b\" relpose=\"2 0 0 1 0 0 0\"/>"
+                                       "</equality></mujoco>"),
+                 {"equality \"w\" (weld)", "relpose"});
+}
+
+// ---- what a file can hand MuJoCo ----
+
+// A hinge axis "nan 0 0" on a model with a muscle (whose length range MuJoCo computes by stepping
+// the model) never returned from mj_loadXML; now every non-finite or unparsable number in a
+// numeric attribute is refused before MuJoCo reads the file, naming file, line, element,
+// attribute and value.
+TEST(LdlpgsRobust, MjcfNanAxisIsRefusedNotHung) {
+  struct Case {
+    std::string element, attribute, value, problem;
+  };
+  const Case cases[] = {{"joint", "axis", "nan 0 0", "not a finite number"},
+                        {"joint", "axis", "1 -inf 0", "not a finite number"},
+                        {"joint", "axis", "NaN 0 0", "not a finite number"},
+                        {"joint", "pos", "0 0 1e400", "not a finite number"},
+                        {"joint", "axis", "1 0 zero", "not a number"},
+                        {"body", "pos", "0 +inf 0", "not a finite number"},
+                        {"geom", "fromto", "0 0 0 0 0 -nan", "not a finite number"},
+                        {"option", "timestep", "inf", "not a finite number"},
+                        {"option", "gravity", "0 0 -1e999", "not a finite number"}};
+  for (const Case& c : cases) {
+    std::string joint = "<joint name=\"a\" axis=\"1 0 0\"/>", body = "<body name=\"arm\">",
+                geom = "<geom type=\"capsule\" size=\".05\" fromto=\"0 0 0 0 0 -1\"/>", option;
+    const std::string attribute = c.attribute + "=\"" + c.value + "\"";
+    if (c.element == "joint") {
+      joint = "<joint name=\"a\" ";
+      joint += attribute;
+      joint += c.attribute == "axis" ? "/>" : " axis=\"1 0 0\"/>";
+    }
+    if (c.element == "body") body = "<body name=\"arm\" " + attribute + ">";
+    if (c.element == "geom") geom = "<geom type=\"capsule\" size=\".05\" " + attribute + "/>";
+    if (c.element == "option") option = "<option " + attribute + "/>";
+    const std::string path = temp_file("bad_number.xml", "<mujoco>" + option + "\n<worldbody>\n" + body + joint + geom +
+                                                             "</body></worldbody>\n<actuator><muscle joint=\"a\"/>"
+                                                             "</actuator></mujoco>");
+    SCOPED_TRACE(attribute);
+    std::string where = path;  // file:line: <element> attribute="value"
+    where += c.element == "option" ? ":1: <" : ":3: <";
+    where += c.element;
+    where += "> ";
+    where += attribute;
+    const std::string message = load_error(path);
+    EXPECT_EQ(message.rfind(where, 0), 0u) << message;
+    EXPECT_NE(message.find(c.problem), std::string::npos) << message;
+  }
+}
+
+// MuJoCo stepped a negative or zero timestep without complaint ("5 steps of -0.01 s", exit 0).
+TEST(LdlpgsRobust, MjcfCompiledTimestepMustBePositive) {
+  for (const char* timestep : {"-0.01", "0"}) {
+    const std::string path = temp_file("timestep.xml", std::string("<mujoco><option timestep=\"") + timestep +
+                                                           "\"/><worldbody><body><joint axis=\"1 0 0\"/>" + kBody +
+                                                           "</body></worldbody></mujoco>");
+    expect_refused(path, {"option timestep", "finite and > 0"});
+  }
+}
+
+// Two or three hinges whose axes are independent only to rounding: axes 1e-8 apart passed the
+// fixed 1e-9 test and gave an H of NaN (1 - k^2 rounded to 0). Now such a model is refused, and
+// every model that loads has finite J, W and H, whatever the angle and the anchors' scale.
+TEST(LdlpgsRobust, MjcfNearParallelHingesAreRefusedOrFinite) {
+  int refused = 0, loaded = 0;
+  for (double scale : {1.0, 1e3}) {
+    for (double d : {1e-12, 1e-10, 1e-8, 1e-6, 1e-4, 1e-3, 1e-2}) {
+      for (int hinges : {2, 3}) {
+        char text[1024];
+        const char* third = hinges == 3 ? "<joint name=\"c\" axis=\"0 1 0\"/>" : "";
+        // two hinges: axes d apart, anchors apart (the four-rod universal joint); three: n3 = y,
+        // n2 tilted d out of the xy plane from x... nearly coplanar with n1 = x and n3.
+        if (hinges == 2)
+          std::snprintf(text, sizeof text,
+                        "<mujoco><worldbody><body name=\"arm\" pos=\"%g 0 0\"><joint name=\"a\" axis=\"1 0 0\"/>"
+                        "<joint name=\"b\" axis=\"1 %.17g 0\" pos=\"0 %g 0\"/>%s</body></worldbody></mujoco>",
+                        scale, d, 0.1 * scale, kBody.c_str());
+        else
+          std::snprintf(text, sizeof text,
+                        "<mujoco><worldbody><body name=\"arm\" pos=\"%g 0 0\"><joint name=\"a\" axis=\"1 0 0\"/>"
+                        "<joint name=\"b\" axis=\"1 1 %.17g\"/>%s%s</body></worldbody></mujoco>",
+                        scale, d, third, kBody.c_str());
+        SCOPED_TRACE(text);
+        const std::string path = temp_file("parallel.xml", text);
+        const std::string message = load_error(path);
+        if (!message.empty()) {
+          ++refused;
+          EXPECT_NE(message.find("dependent"), std::string::npos) << message;
+          continue;
+        }
+        ++loaded;
+        const Mechanism m = load_mjcf(path);
+        const System s = build_system(m, StepOptions{});
+        std::vector<int> sizes;
+        const SymmetricCsc h = equality_matrix(s, &sizes);
+        EXPECT_TRUE(std::all_of(h.values.begin(), h.values.end(), [](double x) { return std::isfinite(x); }));
+        Simulation sim(m, StepOptions{});
+        for (int step = 0; step < 20; ++step) sim.step();
+        EXPECT_TRUE(std::isfinite(constraint_error(sim.mechanism()).position_max));
+      }
+    }
+  }
+  EXPECT_GT(refused, 0);
+  EXPECT_GT(loaded, 0);
+}
+
+// Names, paths and MuJoCo's own messages come from the file: quoted escaped and bounded.
+TEST(LdlpgsRobust, MjcfMessagesAreOneBoundedPrintableLine) {
+  const std::string long_name(5000, 'x');
+  const std::string slides = temp_file(
+      "slides.xml", "<mujoco><worldbody><body name=\"" + long_name + "&#10;&#7;\"><joint type=\"slide\" axis=\"1 0 0\"/>"
+                    "<joint type=\"slide\" axis=\"0 1 0\"/>" + kBody + "</body></worldbody></mujoco>");
+  const std::string broken = temp_file("broken.xml", "<mujoco><worldbody><body name=\"" + long_name + "\x01\">" + long_name);
+  std::string joints;  // 200 slides of long names: the refusal lists them all
+  for (int j = 0; j < 200; ++j) joints += "<joint name=\"" + long_name.substr(0, 70) + std::to_string(j) + "\" type=\"slide\"/>";
+  const std::string many = temp_file("many.xml", "<mujoco><worldbody><body>" + joints + kBody + "</body></worldbody></mujoco>");
+  for (const std::string& path : {slides, broken, many}) {
+    const std::string message = load_error(path);
+    ASSERT_FALSE(message.empty());
+    EXPECT_LT(message.size(), 1000u) << message.size();
+    EXPECT_TRUE(std::none_of(message.begin(), message.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20; }))
+        << message;
+  }
+}
+
+#endif
+
+}  // namespace
+}  // namespace ldlpgs
