@@ -419,10 +419,15 @@ void Simulation::mark_factored_contacts() {
 // needed once matched (std::sort on a total order: stable_sort would allocate every step).
 void Simulation::order_factored_first() {
   const int n = static_cast<int>(contacts_.size());
+  bool any_factored = false;
+  for (int i = 0; i < n; ++i) {
+    contacts_[i].point_index = i;
+    any_factored = any_factored || contacts_[i].factored;
+  }
+  if (!any_factored) return;  // (the detector's order already: no sort, no copy)
   contact_keys_.resize(n);
   for (int i = 0; i < n; ++i) {
-    Contact& c = contacts_[i];
-    c.point_index = i;
+    const Contact& c = contacts_[i];
     // (unfactored: after every body, then by index)
     contact_keys_[i] = c.factored ? ContactKey{c.body_a, c.body_b, 0, i, i} : ContactKey{INT_MAX, 0, 0, i, i};
   }
