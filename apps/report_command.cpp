@@ -1,11 +1,12 @@
 // ldlpgs report: the main job. On the generated mechanism families, the built-in scenes and the
-// test matrices, in five stages:
+// test matrices, in six stages:
 //   1. the orderings comparison (papers/orderings.md),
 //   2. the block LDL^T of every problem verified against CHOLMOD's (factor/verify.h),
 //   3. the talk's table and spy plots (papers/scripts/talk_figures.py, papers/talk-figures.md),
 //   4. speed against error of the solvers on the hard cases, and where each breaks
 //      (apps/sweep.h, papers/speed-vs-error.md),
-//   5. the figures (matplotlib) and index.html (python3-markdown).
+//   5. where each solver breaks, with the figures (matplotlib),
+//   6. two runs to watch in a browser (view/html.h), and index.html (python3-markdown).
 // It writes a directory (report/ by default) holding index.md (opening with a key finding per
 // study), index.html, the figures, and data/: each big table as JSON and CSV records (one flat
 // object or line per row, for pandas); the orderings tables go to standard output as well, and a progress
@@ -39,7 +40,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr int kStages = 5;
+constexpr int kStages = 6;
+constexpr double kViewSeconds = 2;  // simulated, per viewer page
 
 void progress(int stage, const std::string& what) { std::fprintf(stderr, "report [%d/%d] %s\n", stage, kStages, what.c_str()); }
 
@@ -261,7 +263,7 @@ struct ReportOptions {
   std::vector<std::string> cases;  // empty: sweep_cases(full)
 };
 
-// One run of the report: its inputs checked, then the five stages in order, each appending its
+// One run of the report: its inputs checked, then the six stages in order, each appending its
 // section to the index (buffered: the key findings that open the file are known only at the end)
 // and its tables to data/, then the index written.
 class Report {
@@ -276,6 +278,7 @@ class Report {
     talk_figures();
     speed_against_error();
     stability_stage();
+    viewer_pages();
     return finish();
   }
 
@@ -320,7 +323,8 @@ class Report {
                  "2. [The block LDL^T against CHOLMOD](#2-the-block-ldlt-against-cholmod)\n"
                  "3. [The talk's figures](#3-the-talks-figures)\n"
                  "4. [Speed against error](#4-speed-against-error)\n"
-                 "5. [Where each solver breaks](#5-where-each-solver-breaks)\n\n");
+                 "5. [Where each solver breaks](#5-where-each-solver-breaks)\n"
+                 "6. [Watch it move](#6-watch-it-move)\n\n");
   }
 
   // One problem of stage 1 compared; text: its table on stdout.
@@ -472,7 +476,7 @@ class Report {
 
   // 5. The mass ratio at which each solver breaks.
   void stability_stage() {
-    progress(5, "where each solver breaks, the figures and index.html");
+    progress(5, "where each solver breaks");
     breaks_ = stability(cases_, 10, seconds_, true);
     write_table(data_, "stability", to_json(breaks_));
     std::fprintf(md_, "\n## 5. Where each solver breaks\n\nThe heaviest body of each case made 10, 100, ... times "
@@ -481,6 +485,27 @@ class Report {
                  "--stability`.\n\n",
                  seconds_, o_.full ? " --full" : "");
     print_stability_markdown(md_, breaks_);
+  }
+
+  // 6. Two runs as pages that play them (`ldlpgs view`), embedded in index.html: the tracked
+  // vehicle driving its tracks, and a vehicle driving on the ground (contacts).
+  void viewer_pages() {
+    progress(6, "two runs to watch, and index.html");
+    std::fprintf(md_, "\n## 6. Watch it move\n\nTwo runs as pages that play them in a browser (three.js inlined: "
+                 "they open offline); drag to orbit, the slider picks a time, the plot beside it is the joints' "
+                 "separation and the contacts' penetration against time.\n");
+    for (const char* scene : {"tracked-vehicle", "multi-wheeled-vehicle-on-ground"}) {
+      const int steps = static_cast<int>(std::lround(kViewSeconds / load_mechanism(scene).timestep));
+      const std::string page = std::string("view-") + scene + ".html";
+      std::fprintf(stderr, "report: %s\n", page.c_str());
+      const ViewPage v = write_view_page(scene, steps, out_dir_ + "/" + page);
+      std::fprintf(md_, "\n### %s\n\n`build/bin/ldlpgs view %s --steps %d --html-file %s`: %g s simulated, %d "
+                   "frames, %.1f MB; joints within %.2g m, deepest penetration %.2g m%s%s.\n\n"
+                   "<iframe src=\"%s\" title=\"%s\" width=\"100%%\" height=\"520\"></iframe>\n\n[%s](%s)\n",
+                   scene, scene, steps, page.c_str(), v.simulated_s, v.frames, static_cast<double>(v.bytes) / 1e6,
+                   v.position_error_max_m, v.penetration_max_m, v.failure.empty() ? "" : "; it came apart at ",
+                   v.failure.c_str(), page.c_str(), scene, page.c_str(), page.c_str());
+    }
   }
 
   // index.md (head, key findings, the stages' sections), index.html; the exit code.

@@ -325,6 +325,18 @@ void StepSummary::print_table() const {
                 static_cast<double>(std::filesystem::file_size(a.html_file)) / 1e6);
 }
 
+// The run's a.steps steps, each added to the totals and to the files, which are then finished.
+void step_through(const StepArgs& a, const SteppedScene& scene, Simulation* sim, StepFiles* files, StepTotals* totals) {
+  files->add(0, *sim, StepReport{}, scene);
+  const double size = mechanism_size(scene.original);
+  for (int s = 1; s <= a.steps; ++s) {
+    const StepReport r = sim->step();
+    totals->add(s, r, size);
+    files->add(s, *sim, r, scene);
+  }
+  files->finish(a, *sim);
+}
+
 // `command`: step or view (the --json object's "command").
 int run_step(const StepArgs& a, const char* command) {
   const StepOptions options = step_options(a);
@@ -334,15 +346,8 @@ int run_step(const StepArgs& a, const char* command) {
   const double energy_initial = total_energy(scene.shattered.mechanism);
   const double position_error_initial = constraint_error(scene.shattered.mechanism).position_max;
   Simulation sim(scene.shattered.mechanism, options);
-  files.add(0, sim, StepReport{}, scene);
   StepTotals totals;
-  const double size = mechanism_size(scene.original);
-  for (int s = 1; s <= a.steps; ++s) {
-    const StepReport r = sim.step();
-    totals.add(s, r, size);
-    files.add(s, sim, r, scene);
-  }
-  files.finish(a, sim);
+  step_through(a, scene, &sim, &files, &totals);
   const double energy_final = total_energy(sim.mechanism());
   const bool finite = std::isfinite(energy_final) && std::isfinite(totals.worst.error.position_max);
   const Symbolic* symbolic = sim.solver().symbolic();
@@ -444,6 +449,27 @@ constexpr const char* kHtmlFileHelp =
     "Write the run as one self-contained HTML page that plays it (three.js inlined: opens offline)";
 
 }  // namespace
+
+ViewPage write_view_page(const std::string& scene_name, int steps, const std::string& html_file) {
+  StepArgs a;
+  a.scene = scene_name;
+  a.steps = steps;
+  a.html_file = html_file;
+  const StepOptions options = step_options(a);
+  const SteppedScene scene = stepped_scene(a, options);
+  StepFiles files(a, scene);
+  Simulation sim(scene.shattered.mechanism, options);
+  StepTotals totals;
+  step_through(a, scene, &sim, &files, &totals);
+  ViewPage page;
+  page.frames = files.recording->frames();
+  page.bytes = static_cast<int64_t>(std::filesystem::file_size(html_file));
+  page.simulated_s = sim.time();
+  page.position_error_max_m = totals.worst.error.position_max;
+  page.penetration_max_m = totals.worst.penetration_max_m;
+  page.failure = totals.came_apart;
+  return page;
+}
 
 Command add_step_command(CLI::App& app) {
   auto a = std::make_shared<StepArgs>();

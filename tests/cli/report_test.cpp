@@ -26,10 +26,22 @@ TEST(LdlpgsReport, WritesTheReportDirectory) {
   ss << in.rdbuf();
   const std::string index = ss.str();
   for (const char* section : {"## 1. Orderings", "## 2. The block LDL^T against CHOLMOD", "## 3. The talk's figures",
-                              "## 4. Speed against error", "## 5. Where each solver breaks", "bcsstk01.mtx", "chain-12",
-                              "| four-bar | ldl-pgs |"})
+                              "## 4. Speed against error", "## 5. Where each solver breaks", "## 6. Watch it move",
+                              "bcsstk01.mtx", "chain-12", "| four-bar | ldl-pgs |"})
     EXPECT_NE(index.find(section), std::string::npos) << section;
-  EXPECT_NE(r.err.find("report [5/5]"), std::string::npos) << "no progress line: " << r.err;
+  EXPECT_NE(r.err.find("report [6/6]"), std::string::npos) << "no progress line: " << r.err;
+  // The two viewer pages, embedded: each a page of the recorded run (its data block and three.js)
+  // with frames, the one on the ground with its contacts (the browser test checks what a page draws).
+  for (const char* scene : {"tracked-vehicle", "multi-wheeled-vehicle-on-ground"}) {
+    const std::string page = std::string("view-") + scene + ".html";
+    EXPECT_NE(index.find("<iframe src=\"" + page + "\""), std::string::npos) << page;
+    std::ifstream html(dir + "/" + page);
+    std::stringstream text;
+    text << html.rdbuf();
+    EXPECT_NE(text.str().find("THREE.WebGLRenderer"), std::string::npos) << page << ": no three.js";
+    EXPECT_NE(text.str().find("\"scene\":\"" + std::string(scene) + "\""), std::string::npos) << page << ": not its run";
+  }
+  EXPECT_EQ(index.find("came apart"), std::string::npos) << "a viewer run came apart";
   EXPECT_LT(index.find("## Key findings"), index.find("## 1. Orderings")) << "the findings open the report";
   for (const char* paper : {"papers/orderings.md", "papers/factor.md", "papers/speed-vs-error.md"})
     EXPECT_NE(index.find(paper), std::string::npos) << paper;
