@@ -198,7 +198,7 @@ def _cluster(args):
         return None, "serial"
     from distributed import Client, LocalCluster
     if args.scheduler is not None:
-        client = Client(args.scheduler)
+        client = Client(args.scheduler, timeout=args.connect_timeout_s)
         return client, f"{len(client.scheduler_info()['workers'])} workers at {args.scheduler}"
     cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True, dashboard_address=None)
     return Client(cluster), f"a LocalCluster of {args.workers} worker processes"
@@ -211,6 +211,8 @@ def main(argv=None):
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler (tcp://host:8786) to run the tasks on")
     where.add_argument("--workers", type=int, metavar="N", help="run the tasks on a LocalCluster of N worker processes")
+    parser.add_argument("--connect-timeout-s", type=float, default=10.0, metavar="S",
+                        help="give up on --scheduler after this many seconds (default 10)")
     parser.add_argument("--out-dir", metavar="DIR", help="write DIR/orderings.{json,csv} or DIR/sweep.{json,csv}")
     parser.add_argument("--quiet", action="store_true", help="print the summary line only, not the table")
     studies = parser.add_subparsers(dest="study", required=True, parser_class=_Parser)
@@ -233,6 +235,8 @@ def main(argv=None):
     args = parser.parse_args(argv)
     if args.workers is not None and args.workers < 1:
         parser.error("--workers must be at least 1")
+    if not (0 < args.connect_timeout_s < math.inf):
+        parser.error(f"--connect-timeout-s must be finite and positive, got {args.connect_timeout_s}")
     if args.study == "sweep":
         unknown = [v for v in args.solvers if v not in ldlpgs.solvers()]
         if unknown:

@@ -194,6 +194,10 @@ def test_command_line_on_a_scheduler_writes_the_report_format(session, tmp_path)
     (["sweep", "--scenes", "chain-10", "--seconds", "0"], "--seconds must be finite and positive"),
     (["--scheduler", "no-such-scheme://x", "orderings", "a.mtx"], "--scheduler no-such-scheme://x: "),
     (["--workers", "0", "orderings", "a.mtx"], "--workers must be at least 1"),
+    # nothing listens there: refused within the timeout, not after Dask's 30 s
+    (["--scheduler", "tcp://127.0.0.1:9", "--connect-timeout-s", "1", "orderings", "a.mtx"],
+     "--scheduler tcp://127.0.0.1:9: "),
+    (["--connect-timeout-s", "0", "orderings", "a.mtx"], "--connect-timeout-s must be finite and positive"),
     (["--workers", "2", "--scheduler", "tcp://x:1", "orderings", "a.mtx"], "not allowed with argument"),
     (["sweep"], "the following arguments are required: --scenes"),
 ])
