@@ -13,6 +13,7 @@
 #include <map>
 #include <new>
 #include <stdexcept>
+#include <optional>
 #include <string>
 #include <sstream>
 #include <string_view>
@@ -117,38 +118,35 @@ int extras_error(const CLI::App& app, const std::string& what, int argc, char** 
   return 2;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  // `bench` times CHOLMOD supernodal, whose OpenMP threads only a thread limit set before the
-  // program starts bounds (peers/competitors.h): the one subcommand that re-executes itself with
-  // OMP_THREAD_LIMIT=1. (The subcommand is the first word; --no-size-limits takes no value.)
+// `bench` times CHOLMOD supernodal, whose OpenMP threads only a thread limit set before the
+// program starts bounds (peers/competitors.h): the one subcommand that re-executes itself with
+// OMP_THREAD_LIMIT=1. (The subcommand is the first word; --no-size-limits takes no value.)
+void limit_bench_to_one_thread(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
     if (argv[i][0] != '-') {
       if (std::string_view(argv[i]) == "bench") ldlpgs::limit_openmp_to_one_thread(argv);
       break;
     }
-  CLI::App app{"ldlpgs: block-sparse LDL^T with graph-elimination orderings, for mechanisms"};
-  app.set_version_flag("--version", std::string("ldlpgs ") + ldlpgs::kVersion);
-  app.add_flag_callback("--no-size-limits", [] { ldlpgs::size_limits() = ldlpgs::SizeLimits::none(); },
-                        "Lift the caps on declared sizes (sparse/limits.h: 2^24 rows, 2^28 entries, 2^22 constraints)");
-  app.require_subcommand(0, 1);
-  std::map<CLI::App*, ldlpgs::cli::Command> commands;
-  auto add = [&](ldlpgs::cli::Command (*make)(CLI::App&)) {
+}
+
+using Commands = std::map<CLI::App*, ldlpgs::cli::Command>;
+
+// The subcommands on the app, each with the function that runs it.
+Commands add_commands(CLI::App& app) {
+  Commands commands;
+  for (auto make : {ldlpgs::cli::add_order_command, ldlpgs::cli::add_report_command, ldlpgs::cli::add_verify_command,
+                    ldlpgs::cli::add_bench_command, ldlpgs::cli::add_step_command, ldlpgs::cli::add_view_command,
+                    ldlpgs::cli::add_export_command, ldlpgs::cli::add_spy_command, ldlpgs::cli::add_sweep_command,
+                    ldlpgs::cli::add_peers_command}) {
     const size_t before = app.get_subcommands({}).size();
     ldlpgs::cli::Command run = make(app);
     commands[app.get_subcommands({})[before]] = std::move(run);
-  };
-  add(ldlpgs::cli::add_order_command);
-  add(ldlpgs::cli::add_report_command);
-  add(ldlpgs::cli::add_verify_command);
-  add(ldlpgs::cli::add_bench_command);
-  add(ldlpgs::cli::add_step_command);
-  add(ldlpgs::cli::add_view_command);
-  add(ldlpgs::cli::add_export_command);
-  add(ldlpgs::cli::add_spy_command);
-  add(ldlpgs::cli::add_sweep_command);
-  add(ldlpgs::cli::add_peers_command);
+  }
+  return commands;
+}
+
+// The command line parsed; an exit code when the program ends here (help, version, bad input).
+std::optional<int> parse_arguments(CLI::App& app, int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -168,22 +166,27 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (app.get_subcommands().empty()) return usage_error(app, "no subcommand given");
+  return std::nullopt;
+}
+
+// What the command printed may still sit in a buffer: a full disk (or `> /dev/full`) shows only
+// now, and had exited 0 with nothing written. False (and said) if standard output failed.
+bool standard_output_written() {
+  std::cout.flush();
+  errno = 0;
+  if (std::cout && std::fflush(stdout) == 0 && !std::ferror(stdout)) return true;
+  std::fprintf(stderr, "ldlpgs: cannot write standard output%s\n",
+               errno ? (std::string(" (") + std::strerror(errno) + ")").c_str() : "");
+  return false;
+}
+
+// The parsed subcommand run; its exceptions as one line each: bad input 2, an internal error 3.
+int run_command(CLI::App& app, const Commands& commands, int argc, char** argv) {
   std::string input;  // the command's arguments, to name what was too large
   for (int k = 1; k < argc; ++k) (input += k > 1 ? " " : "") += argv[k];
   try {
-    for (CLI::App* sub : app.get_subcommands()) {
-      const int code = commands.at(sub)();
-      // What the command printed may still sit in a buffer: a full disk (or `> /dev/full`)
-      // shows only now, and had exited 0 with nothing written.
-      std::cout.flush();
-      errno = 0;
-      if (!std::cout || std::fflush(stdout) != 0 || std::ferror(stdout)) {
-        std::fprintf(stderr, "ldlpgs: cannot write standard output%s\n",
-                     errno ? (std::string(" (") + std::strerror(errno) + ")").c_str() : "");
-        return 2;
-      }
-      return code;
-    }
+    const int code = commands.at(app.get_subcommands().front())();
+    return standard_output_written() ? code : 2;
   } catch (const ldlpgs::InputError& e) {
     // (the readers quote input through printable() already: its escapes are kept as they are)
     std::fprintf(stderr, "ldlpgs: %s\n", ldlpgs::printable(e.what(), 400, false).c_str());
@@ -201,5 +204,18 @@ int main(int argc, char** argv) {
                  ldlpgs::printable(e.what(), 300).c_str());
     return 3;
   }
-  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  limit_bench_to_one_thread(argc, argv);
+  CLI::App app{"ldlpgs: block-sparse LDL^T with graph-elimination orderings, for mechanisms"};
+  app.set_version_flag("--version", std::string("ldlpgs ") + ldlpgs::kVersion);
+  app.add_flag_callback("--no-size-limits", [] { ldlpgs::size_limits() = ldlpgs::SizeLimits::none(); },
+                        "Lift the caps on declared sizes (sparse/limits.h: 2^24 rows, 2^28 entries, 2^22 constraints)");
+  app.require_subcommand(0, 1);
+  const Commands commands = add_commands(app);
+  if (const std::optional<int> exit = parse_arguments(app, argc, argv)) return *exit;
+  return run_command(app, commands, argc, argv);
 }

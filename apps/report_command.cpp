@@ -43,7 +43,7 @@ namespace fs = std::filesystem;
 constexpr int kStages = 6;
 constexpr double kViewSeconds = 2;  // simulated, per viewer page
 
-void progress(int stage, const std::string& what) { std::fprintf(stderr, "report [%d/%d] %s\n", stage, kStages, what.c_str()); }
+void stage_progress(int stage, const std::string& what) { std::fprintf(stderr, "report [%d/%d] %s\n", stage, kStages, what.c_str()); }
 
 std::string shell_quoted(const std::string& s) {
   std::string q = "'";
@@ -163,12 +163,9 @@ std::string paper(const std::string& out_dir, const std::string& name) {
 }
 
 // The key findings: one sentence per study, with its number, before the big tables.
-std::string key_findings(const std::string& out_dir, const std::vector<std::pair<Problem, std::vector<Row>>>& results,
-                         const std::vector<std::pair<std::string, Verification>>& checks, int talk_rows,
-                         const std::vector<SweepPoint>& points, const std::vector<Breakdown>& breaks) {
-  std::string md = "## Key findings\n\n";
-  char line[1024];
-  // Orderings: MECA's scalar nnz(L) against AMD's on the block graph, as a geometric mean of ratios
+
+// Orderings: MECA's scalar nnz(L) against AMD's on the block graph, as a geometric mean of ratios.
+std::string orderings_finding(const std::string& out_dir, const std::vector<std::pair<Problem, std::vector<Row>>>& results) {
   double log_sum = 0;
   int compared = 0, no_larger = 0;
   for (const auto& [p, rows] : results) {
@@ -183,6 +180,7 @@ std::string key_findings(const std::string& out_dir, const std::vector<std::pair
     ++compared;
     no_larger += ratio <= 1;
   }
+  char line[1024];
   if (compared)
     std::snprintf(line, sizeof line, "- **Orderings**: MECA's nnz(L) is %.3f times AMD's (geometric mean over %d "
                   "problems), no larger on %d of them (%s).\n",
@@ -190,7 +188,10 @@ std::string key_findings(const std::string& out_dir, const std::vector<std::pair
   else
     std::snprintf(line, sizeof line, "- **Orderings**: %zu problems compared; MECA and AMD were not both run (%s).\n",
                   results.size(), paper(out_dir, "orderings.md").c_str());
-  md += line;
+  return line;
+}
+
+std::string verification_finding(const std::string& out_dir, const std::vector<std::pair<std::string, Verification>>& checks) {
   int agree = 0, verified = 0;
   double worst = 0;
   for (const auto& [name, v] : checks) {
@@ -204,19 +205,27 @@ std::string key_findings(const std::string& out_dir, const std::vector<std::pair
   if (verified) std::snprintf(largest, sizeof largest, "the largest relative difference of L, D or x is %.1e", worst);
   const std::string others = not_agreeing(checks);
   // the tolerance grows with the condition estimate, so the largest difference alone says little
+  char line[1024];
   std::snprintf(line, sizeof line, "- **The block LDL^T against CHOLMOD**: %d of %zu problems agree within "
                 "max(1e-10, eps cond_1); %s%s (%s).\n",
                 agree, checks.size(), largest, others.empty() ? "" : ("; " + others).c_str(),
                 paper(out_dir, "factor.md").c_str());
-  md += line;
+  return line;
+}
+
+std::string talk_finding(const std::string& out_dir, int talk_rows) {
+  char line[1024];
   if (talk_rows > 0)
     std::snprintf(line, sizeof line, "- **The talk's figures**: %d mechanisms measured beside the talk's numbers "
                   "(%s).\n", talk_rows, paper(out_dir, "talk-figures.md").c_str());
   else
     std::snprintf(line, sizeof line, "- **The talk's figures**: not made in this run (%s).\n",
                   paper(out_dir, "talk-figures.md").c_str());
-  md += line;
-  // Speed against error: on how many cases each solver gets within 1 mm at all
+  return line;
+}
+
+// Speed against error: on how many cases each solver gets within 1 mm at all.
+std::string sweep_finding(const std::string& out_dir, const std::vector<SweepPoint>& points) {
   std::string reached;
   std::vector<std::string> cases;
   for (const SweepPoint& p : points)
@@ -236,9 +245,13 @@ std::string key_findings(const std::string& out_dir, const std::vector<std::pair
     if (ran) reached += std::string(reached.empty() ? "" : ", ") + solver + " " + std::to_string(within) + " of " +
                         std::to_string(ran);
   }
+  char line[1024];
   std::snprintf(line, sizeof line, "- **Speed against error**: cases held within 1 mm for the whole run at some "
                 "iteration count: %s (%s).\n", reached.c_str(), paper(out_dir, "speed-vs-error.md").c_str());
-  md += line;
+  return line;
+}
+
+std::string breaks_finding(const std::string& out_dir, const std::vector<Breakdown>& breaks) {
   std::string held;
   for (const char* solver : {"ldl-pgs", "pgs", "block-gs", "direct"}) {
     int never = 0, ran = 0;
@@ -247,11 +260,18 @@ std::string key_findings(const std::string& out_dir, const std::vector<std::pair
     if (ran) held += std::string(held.empty() ? "" : ", ") + solver + " " + std::to_string(never) + " of " +
                      std::to_string(ran);
   }
+  char line[1024];
   std::snprintf(line, sizeof line, "- **Where each solver breaks**: cases that never broke up to 1e9 times the "
                 "scene's mass ratio (10 iterations): %s (%s).\n\n", held.c_str(),
                 paper(out_dir, "speed-vs-error.md").c_str());
-  md += line;
-  return md;
+  return line;
+}
+
+std::string key_findings(const std::string& out_dir, const std::vector<std::pair<Problem, std::vector<Row>>>& results,
+                         const std::vector<std::pair<std::string, Verification>>& checks, int talk_rows,
+                         const std::vector<SweepPoint>& points, const std::vector<Breakdown>& breaks) {
+  return "## Key findings\n\n" + orderings_finding(out_dir, results) + verification_finding(out_dir, checks) +
+         talk_finding(out_dir, talk_rows) + sweep_finding(out_dir, points) + breaks_finding(out_dir, breaks);
 }
 
 // The report's options (the `report` flags).
@@ -340,7 +360,7 @@ class Report {
 
   // 1. Orderings. Text: one table per problem on stdout. Markdown: one table per metric.
   void orderings() {
-    progress(1, "orderings on the mechanism families and " + std::to_string(files_.size()) + " matrices");
+    stage_progress(1, "orderings on the mechanism families and " + std::to_string(files_.size()) + " matrices");
     std::vector<std::string> skipped;
     for (std::string_view family : family_names()) {
       for (int size : o_.sizes) {
@@ -389,7 +409,7 @@ class Report {
 
   // 2. The factorization of every problem, in the ordering o_.verify, against CHOLMOD's.
   void verification() {
-    progress(2, "the block LDL^T of every problem against CHOLMOD");
+    stage_progress(2, "the block LDL^T of every problem against CHOLMOD");
     nlohmann::json verification_rows = nlohmann::json::array();
     for (const auto& [p, rows] : results_) {
       std::fprintf(stderr, "report: verifying %s\n", p.name.c_str());
@@ -422,7 +442,7 @@ class Report {
                            "python3-markdown; ./build.sh report installs them): the talk's table, the plots and "
                            "index.html are skipped\n");
     std::fprintf(md_, "\n## 3. The talk's figures\n\n");
-    progress(3, "the talk's table and spy plots");
+    stage_progress(3, "the talk's table and spy plots");
     if (python_.empty()) {
       std::fprintf(md_, "Skipped: no python3 with matplotlib.\n");
       return;
@@ -448,7 +468,7 @@ class Report {
 
   // 4. Speed against error of the solvers on the hard cases.
   void speed_against_error() {
-    progress(4, std::string("speed against error (") + (o_.full ? "full" : "quick") + ") and stability");
+    stage_progress(4, std::string("speed against error (") + (o_.full ? "full" : "quick") + ") and stability");
     cases_ = o_.cases.empty() ? sweep_cases(o_.full) : o_.cases;
     seconds_ = o_.full ? 2.0 : 1.0;
     points_ = speed_vs_error(cases_, sweep_iterations(o_.full), seconds_, true);
@@ -476,7 +496,7 @@ class Report {
 
   // 5. The mass ratio at which each solver breaks.
   void stability_stage() {
-    progress(5, "where each solver breaks");
+    stage_progress(5, "where each solver breaks");
     breaks_ = stability(cases_, 10, seconds_, true);
     write_table(data_, "stability", to_json(breaks_));
     std::fprintf(md_, "\n## 5. Where each solver breaks\n\nThe heaviest body of each case made 10, 100, ... times "
@@ -490,7 +510,7 @@ class Report {
   // 6. Two runs as pages that play them (`ldlpgs view`), embedded in index.html: the tracked
   // vehicle driving its tracks, and a vehicle driving on the ground (contacts).
   void viewer_pages() {
-    progress(6, "two runs to watch, and index.html");
+    stage_progress(6, "two runs to watch, and index.html");
     std::fprintf(md_, "\n## 6. Watch it move\n\nTwo runs as pages that play them in a browser (three.js inlined: "
                  "they open offline); drag to orbit, the slider picks a time, the plot beside it is the joints' "
                  "separation and the contacts' penetration against time.\n");
