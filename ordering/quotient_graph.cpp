@@ -11,14 +11,19 @@
 // therefore counted exactly (exact_fill below), which restores meca's zero fill on chordal
 // block graphs (tests/ordering/quotient_graph_test.cpp fails without it).
 //
-// Lists are std::vectors per variable and element rather than AMD's single workspace: simpler,
-// and at 1e5 blocks not the bottleneck (bench/orderings_bench). The queue is a binary heap of the
+// All lists live in one integer workspace, as in AMD: a variable's E_i then A_i, an element's L_e,
+// each a start and a length into it. A variable's lists are rewritten in place (each update drops
+// at least the entry through which the variable was reached from the pivot, which makes room for
+// the pivot's); a new element goes at the end, and when the end is reached the live lists are
+// compacted to the front (collect_garbage). The queue is a binary heap of the
 // variables, indexed (VariableHeap below).
 #include "ldlpgs/ordering/quotient_graph.h"
 
 #include <algorithm>
 #include <cassert>
 #include <cstdint>
+#include <cstring>
+#include <span>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -115,24 +120,37 @@ constexpr int64_t kShortLists = 32, kShortBudget = 256;
 class QuotientGame {
  public:
   QuotientGame(const BlockPattern& pattern, const QuotientOptions& opt)
-      : pattern_(pattern), opt_(opt), n_(pattern.num_blocks()), status_(n_, kVariable), adj_(n_), elems_(n_),
-        members_(n_), mass_(n_), degree_(n_), heaviest_(n_), tie_index_(n_), blocks_(n_), key_(n_), exact_(n_, -1),
-        cover_(n_), in_reach_(n_, 0), near_(n_, 0), failed_at_(n_, INT64_MAX), last_i_(n_, 0), in_lp_(n_), heap_(key_),
-        mark_(n_, 0), seen_(n_, 0), outside_(n_), hash_(n_) {
+      : pattern_(pattern), opt_(opt), n_(pattern.num_blocks()), status_(n_, kVariable), pe_(n_, 0), len_(n_, 0),
+        elen_(n_, 0), first_(n_), mass_(n_), degree_(n_), heaviest_(n_), tie_index_(n_), next_block_(n_, -1),
+        last_block_(n_), key_(n_), exact_(n_, -1), cover_(n_), in_reach_(n_, 0), near_(n_, 0),
+        failed_at_(n_, INT64_MAX), last_i_(n_, 0), in_lp_(n_), heap_(key_), mark_(n_, 0), seen_(n_, 0),
+        outside_(n_), hash_(n_) {
     const Graph& graph = pattern.graph();
+    int64_t entries = 0;
+    for (int i = 0; i < n_; ++i) entries += static_cast<int64_t>(graph.neighbors(i).size());
+    // Room for the variables' lists and about as much again for the elements' (a live element's
+    // members mostly mirror entries of its variables' E_i), so that compactions are rare.
+    iw_.resize(static_cast<size_t>(2 * entries + 2 * static_cast<int64_t>(n_) + 16));
     for (int i = 0; i < n_; ++i) {
       const int64_t w = opt.weighted ? pattern.block(i).size : 1;
       mass_[i] = {1, w, w * w};
       heaviest_[i] = w;
       tie_index_[i] = i;
-      blocks_[i] = {i};
+      last_block_[i] = i;
       live_ += mass_[i];
       auto nb = graph.neighbors(i);
-      adj_[i].assign(nb.begin(), nb.end());
+      pe_[i] = tail_;
+      len_[i] = static_cast<int>(nb.size());
+      std::copy(nb.begin(), nb.end(), iw_.begin() + tail_);
+      tail_ += len_[i];
     }
     for (int i = 0; i < n_; ++i) {
-      for (int j : adj_[i]) degree_[i] += mass_[j];
+      for (int j : adj(i)) degree_[i] += mass_[j];
     }
+    lp_.reserve(n_);
+    reach_.reserve(n_);
+    touched_.reserve(n_);
+    by_hash_.reserve(n_);
     for (int i = 0; i < n_; ++i) {
       rescore(i);
       rekey(i);
@@ -145,20 +163,61 @@ class QuotientGame {
     while (!heap_.empty()) {
       const int p = heap_.pop();
       if (status_[p] != kVariable) continue;  // merged into a supervariable
+      const size_t first = pivots.size();
       output_blocks(p, pivots);
       const Mass lp_mass = form_element(p);
       count_outside();
       update_variables(p, lp_mass);
       merge_supervariables();
-      rekey_element(p, trace);
+      rekey_element(p, std::span<const int>(pivots).subspan(first), trace);
       if (opt_.score == QuotientScore::fill && exact_[p] != 0) rescore_outside(p);
-      std::vector<int>().swap(blocks_[p]);
     }
     assert(static_cast<int>(pivots.size()) == n_);
     return pivots;
   }
 
  private:
+  // The lists of id i in the workspace: E_i and A_i of a variable, L_e of an element.
+  std::span<const int> elems(int i) const { return {iw_.data() + pe_[i], static_cast<size_t>(elen_[i])}; }
+  std::span<const int> adj(int i) const {
+    return {iw_.data() + pe_[i] + elen_[i], static_cast<size_t>(len_[i] - elen_[i])};
+  }
+  std::span<const int> members(int e) const { return {iw_.data() + pe_[e], static_cast<size_t>(len_[e])}; }
+  void drop_lists(int i) { len_[i] = elen_[i] = 0; }
+
+  // `size` free entries at the end of the workspace, compacting it first when they do not fit.
+  // Moves lists: no span into the workspace survives a call.
+  int64_t allocate(int64_t size) {
+    if (tail_ + size > static_cast<int64_t>(iw_.size())) collect_garbage();
+    if (tail_ + size > static_cast<int64_t>(iw_.size())) iw_.resize(static_cast<size_t>(2 * (tail_ + size)));
+    const int64_t at = tail_;
+    tail_ += size;
+    return at;
+  }
+  // Moves the live lists to the front in workspace order, as AMD does: the first entry of each is
+  // replaced by -(id + 1) (the entry kept in first_), so that one sweep finds where lists start.
+  void collect_garbage() {
+    for (int i = 0; i < n_; ++i) {
+      if (len_[i] == 0) continue;
+      first_[i] = iw_[pe_[i]];
+      iw_[pe_[i]] = -(i + 1);
+    }
+    int64_t to = 0;
+    for (int64_t from = 0; from < tail_;) {
+      if (iw_[from] >= 0) {  // not in a live list
+        ++from;
+        continue;
+      }
+      const int i = -iw_[from] - 1;
+      pe_[i] = to;
+      iw_[to] = first_[i];
+      std::memmove(iw_.data() + to + 1, iw_.data() + from + 1, sizeof(int) * static_cast<size_t>(len_[i] - 1));
+      to += len_[i];
+      from += len_[i];
+    }
+    tail_ = to;
+  }
+
   Key make_key(int i) const {
     int64_t s;
     if (opt_.score == QuotientScore::degree) {
@@ -194,19 +253,19 @@ class QuotientGame {
         total += mass_[v].w;
       }
     };
-    for (int v : adj_[i]) add(v);
-    for (int e : elems_[i]) {
+    for (int v : adj(i)) add(v);
+    for (int e : elems(i)) {
       if (status_[e] != kElement) continue;
-      budget -= static_cast<int64_t>(members_[e].size());
-      for (int v : members_[e]) add(v);
+      budget -= len_[e];
+      for (int v : members(e)) add(v);
     }
     // What the count below reads, from the list lengths alone: a count that cannot afford it
     // gives up before reading its neighbours' lists, so that a failure costs the lengths, not the
     // budget (the same counts succeed; papers/orderings.md, "Short lists: the second exact tier").
     for (int u : reach_) {
-      budget -= static_cast<int64_t>(adj_[u].size());
-      for (int e : elems_[u]) {
-        if (status_[e] == kElement) budget -= static_cast<int64_t>(members_[e].size());
+      budget -= len_[u] - elen_[u];
+      for (int e : elems(u)) {
+        if (status_[e] == kElement) budget -= len_[e];
       }
       if (budget < 0) return -1;
     }
@@ -221,10 +280,10 @@ class QuotientGame {
           adjacent += mass_[v].w;
         }
       };
-      for (int v : adj_[u]) see(v);
-      for (int e : elems_[u]) {
+      for (int v : adj(u)) see(v);
+      for (int e : elems(u)) {
         if (status_[e] == kElement) {
-          for (int v : members_[e]) see(v);
+          for (int v : members(e)) see(v);
         }
       }
       twice_fill += mass_[u].w * (total - mass_[u].w - adjacent);
@@ -235,9 +294,10 @@ class QuotientGame {
   int64_t try_exact(int i) {
     if (degree_[i].c <= kExactDegree) return exact_fill(i, kExactBudget);
     if (degree_[i].c >= failed_at_[i]) return -1;
-    int64_t lists = static_cast<int64_t>(adj_[i].size());
-    for (size_t k = 0; k < elems_[i].size() && lists <= kShortLists; ++k) {
-      if (status_[elems_[i][k]] == kElement) lists += static_cast<int64_t>(members_[elems_[i][k]].size());
+    int64_t lists = len_[i] - elen_[i];
+    const std::span<const int> ei = elems(i);
+    for (size_t k = 0; k < ei.size() && lists <= kShortLists; ++k) {
+      if (status_[ei[k]] == kElement) lists += len_[ei[k]];
     }
     const int64_t f = lists <= kShortLists ? exact_fill(i, kShortBudget) : -1;
     if (f < 0) failed_at_[i] = degree_[i].c;
@@ -247,13 +307,13 @@ class QuotientGame {
   // Output p's blocks in the order the exact game would take them: all of them have the same
   // neighbours, so the tie rule (and for mda-w the heaviest block, of least degree) decides.
   void output_blocks(int p, std::vector<int>& pivots) {
-    std::vector<int>& bp = blocks_[p];
-    std::sort(bp.begin(), bp.end(), [&](int a, int b) {
+    const auto first = pivots.end() - pivots.begin();
+    for (int b = p; b >= 0; b = next_block_[b]) pivots.push_back(b);
+    std::sort(pivots.begin() + first, pivots.end(), [&](int a, int b) {
       if (opt_.score == QuotientScore::degree && opt_.weighted && pattern_.block(a).size != pattern_.block(b).size)
         return pattern_.block(a).size > pattern_.block(b).size;
       return opt_.tie == TieBreak::highest_index ? a > b : a < b;
     });
-    pivots.insert(pivots.end(), bp.begin(), bp.end());
     live_ -= mass_[p];
   }
 
@@ -271,15 +331,14 @@ class QuotientGame {
         lp_mass += mass_[j];
       }
     };
-    for (int e : elems_[p]) {
-      for (int j : members_[e]) take(j);
+    for (int e : elems(p)) {
+      for (int j : members(e)) take(j);
       status_[e] = kAbsorbed;
-      std::vector<int>().swap(members_[e]);
+      drop_lists(e);
     }
-    for (int j : adj_[p]) take(j);
+    for (int j : adj(p)) take(j);
     status_[p] = kElement;
-    std::vector<int>().swap(adj_[p]);
-    std::vector<int>().swap(elems_[p]);
+    drop_lists(p);  // (L_p is written by rekey_element)
     mass_[p] = lp_mass;
     lp_stamp_ = stamp_;
     return lp_mass;
@@ -288,7 +347,7 @@ class QuotientGame {
   // |L_e \ L_p| for every element e adjacent to L_p: |L_e| minus the variables of L_p in it.
   void count_outside() {
     for (int i : lp_) {
-      for (int e : elems_[i]) {
+      for (int e : elems(i)) {
         if (status_[e] != kElement) continue;
         if (seen_[e] != lp_stamp_) {
           seen_[e] = lp_stamp_;
@@ -299,40 +358,60 @@ class QuotientGame {
     }
   }
 
-  // Update each i in L_p: drop absorbed elements (and, aggressively, those inside L_p), add p;
-  // drop from A_i what element p now covers; bound the degree; hash the lists.
+  // Update each i in L_p: prune its lists and add p (prune_lists); bound the degree.
   void update_variables(int p, const Mass& lp_mass) {
     for (int i : lp_) {
       Mass external;
-      uint64_t h = static_cast<uint64_t>(p);
-      size_t k = 0;
-      for (int e : elems_[i]) {
-        if (status_[e] != kElement) continue;
-        if (outside_[e].c == 0) {  // L_e is inside L_p: p absorbs it
-          status_[e] = kAbsorbed;
-          std::vector<int>().swap(members_[e]);
-          continue;
-        }
-        external += outside_[e];
-        h += static_cast<uint64_t>(e);
-        elems_[i][k++] = e;
-      }
-      elems_[i].resize(k);
-      elems_[i].push_back(p);
-      k = 0;
-      for (int j : adj_[i]) {
-        if (status_[j] != kVariable || mark_[j] == lp_stamp_) continue;
-        external += mass_[j];
-        h += static_cast<uint64_t>(j);
-        adj_[i][k++] = j;
-      }
-      adj_[i].resize(k);
+      hash_[i] = prune_lists(i, p, external);
       const Mass rest = lp_mass - mass_[i];
       const Mass bound = external + rest, grown = degree_[i] + rest, all = live_ - mass_[i];
       degree_[i] = {std::min({bound.c, grown.c, all.c}), std::min({bound.w, grown.w, all.w}),
                     std::min({bound.q, grown.q, all.q})};
-      hash_[i] = h;
     }
+  }
+  // E_i loses its absorbed elements (and, aggressively, those inside L_p, which p absorbs) and
+  // gains p after the rest; A_i loses what element p now covers. Adds the mass of what remains
+  // to `external`, returns the hash of the lists. In place: p, or an element of E_p, was in the
+  // lists and is dropped, so the new lists fit; were nothing dropped they move to the end.
+  uint64_t prune_lists(int i, int p, Mass& external) {
+    int* list = iw_.data() + pe_[i];
+    const int e_len = elen_[i], a_len = len_[i] - elen_[i];
+    uint64_t h = static_cast<uint64_t>(p);
+    int ke = 0, ka = 0;
+    for (int k = 0; k < e_len; ++k) {
+      const int e = list[k];
+      if (status_[e] != kElement) continue;
+      if (outside_[e].c == 0) {  // L_e is inside L_p: p absorbs it
+        status_[e] = kAbsorbed;
+        drop_lists(e);
+        continue;
+      }
+      external += outside_[e];
+      h += static_cast<uint64_t>(e);
+      list[ke++] = e;
+    }
+    int* a = list + e_len;
+    for (int k = 0; k < a_len; ++k) {
+      const int j = a[k];
+      if (status_[j] != kVariable || mark_[j] == lp_stamp_) continue;
+      external += mass_[j];
+      h += static_cast<uint64_t>(j);
+      a[ka++] = j;
+    }
+    if (ke + 1 + ka > len_[i]) {  // nothing dropped: the lists are whole, [E_i, A_i]
+      const int64_t at = allocate(len_[i] + 1);
+      list = iw_.data() + pe_[i];
+      std::memmove(iw_.data() + at, list, sizeof(int) * static_cast<size_t>(ke));
+      std::memmove(iw_.data() + at + ke + 1, list + ke, sizeof(int) * static_cast<size_t>(ka));
+      pe_[i] = at;
+      list = iw_.data() + at;
+    } else {
+      std::memmove(list + ke + 1, a, sizeof(int) * static_cast<size_t>(ka));
+    }
+    list[ke] = p;
+    elen_[i] = ke + 1;
+    len_[i] = ke + 1 + ka;
+    return h;
   }
 
   // Supervariables: variables of L_p with equal hash, then equal lists, are indistinguishable.
@@ -346,16 +425,16 @@ class QuotientGame {
       bool marked = false;
       for (size_t b = a + 1; b < by_hash_.size() && by_hash_[b].first == by_hash_[a].first; ++b) {
         const int j = by_hash_[b].second;
-        if (status_[j] != kVariable || adj_[j].size() != adj_[i].size() || elems_[j].size() != elems_[i].size()) continue;
+        if (status_[j] != kVariable || len_[j] != len_[i] || elen_[j] != elen_[i]) continue;
         if (!marked) {
           ++stamp_;
-          for (int x : adj_[i]) mark_[x] = stamp_;
-          for (int x : elems_[i]) mark_[x] = stamp_;
+          for (int x : adj(i)) mark_[x] = stamp_;
+          for (int x : elems(i)) mark_[x] = stamp_;
           marked = true;
         }
         bool same = true;
-        for (int x : adj_[j]) same = same && mark_[x] == stamp_;
-        for (int x : elems_[j]) same = same && mark_[x] == stamp_;
+        for (int x : adj(j)) same = same && mark_[x] == stamp_;
+        for (int x : elems(j)) same = same && mark_[x] == stamp_;
         if (same) merge(i, j);
       }
     }
@@ -375,31 +454,32 @@ class QuotientGame {
                                                           : std::min(tie_index_[i], tie_index_[j]);
     }
     heaviest_[i] = std::max(heaviest_[i], heaviest_[j]);
-    blocks_[i].insert(blocks_[i].end(), blocks_[j].begin(), blocks_[j].end());
-    std::vector<int>().swap(blocks_[j]);
-    std::vector<int>().swap(adj_[j]);
-    std::vector<int>().swap(elems_[j]);
+    next_block_[last_block_[i]] = j;
+    last_block_[i] = last_block_[j];
+    drop_lists(j);
     status_[j] = kMerged;  // (left in the heap: popped and skipped, cheaper than taken out)
   }
 
   // Element p keeps its live variables; new keys for them (for meca, a new cover: the largest
-  // element among E_i), and the step in the trace.
-  void rekey_element(int p, std::vector<QuotientStep>* trace) {
+  // element among E_i), and the step in the trace (p's blocks are `eliminated`).
+  void rekey_element(int p, std::span<const int> eliminated, std::vector<QuotientStep>* trace) {
     size_t k = 0;
     for (int i : lp_) {
       if (status_[i] == kVariable) lp_[k++] = i;
     }
     lp_.resize(k);
-    members_[p] = lp_;
+    pe_[p] = allocate(static_cast<int64_t>(k));
+    std::copy(lp_.begin(), lp_.end(), iw_.begin() + pe_[p]);
+    len_[p] = static_cast<int>(k);
     QuotientStep* step = nullptr;
     if (trace) {
-      trace->push_back({blocks_[p], {}});
+      trace->push_back({std::vector<int>(eliminated.begin(), eliminated.end()), {}});
       step = &trace->back();
     }
     for (int i : lp_) {
       if (opt_.score == QuotientScore::fill) {
         Mass best;
-        for (int e : elems_[i]) {
+        for (int e : elems(i)) {
           const Mass m = mass_[e] - mass_[i];
           if (m.pairs() > best.pairs()) best = m;
         }
@@ -408,7 +488,7 @@ class QuotientGame {
       }
       rekey(i);
       if (step) {
-        for (int b : blocks_[i]) step->degrees.emplace_back(b, degree_[i].c + mass_[i].c - 1);
+        for (int b = i; b >= 0; b = next_block_[b]) step->degrees.emplace_back(b, degree_[i].c + mass_[i].c - 1);
       }
     }
   }
@@ -440,10 +520,10 @@ class QuotientGame {
         }
         in_lp_[x] += mass_[i];
       };
-      for (int x : adj_[i]) visit(x);
-      for (int e : elems_[i]) {
-        if (e != p && static_cast<int64_t>(members_[e].size()) <= kExactDegree) {
-          for (int x : members_[e]) visit(x);
+      for (int x : adj(i)) visit(x);
+      for (int e : elems(i)) {
+        if (e != p && len_[e] <= kExactDegree) {
+          for (int x : members(e)) visit(x);
         }
       }
     }
@@ -465,14 +545,20 @@ class QuotientGame {
   const QuotientOptions opt_;
   const int n_;
   std::vector<uint8_t> status_;             // what id i is now (size n)
-  std::vector<std::vector<int>> adj_;       // A_i: variables, original edges (size n)
-  std::vector<std::vector<int>> elems_;     // E_i: elements of variable i (size n)
-  std::vector<std::vector<int>> members_;   // L_e: variables of element e (size n)
+  // The workspace: a variable's E_i (elements) then A_i (variables, original edges) at
+  // iw_[pe_[i]], len_[i] entries of which the first elen_[i] are E_i; an element's L_e (its
+  // variables) at iw_[pe_[e]], len_[e] entries. Entries from tail_ on are free.
+  std::vector<int> iw_;
+  int64_t tail_ = 0;
+  std::vector<int64_t> pe_;                 // (size n)
+  std::vector<int> len_, elen_;             // (size n)
+  std::vector<int> first_;                  // collect_garbage: each list's first entry (size n)
   std::vector<Mass> mass_;                  // variable: its blocks; element: live L_e (size n)
   std::vector<Mass> degree_;                // d_i, the external degree bound (size n)
   std::vector<int64_t> heaviest_;           // largest block weight in supervariable i (size n)
   std::vector<int> tie_index_;              // the block index the tie rule reads (size n)
-  std::vector<std::vector<int>> blocks_;    // blocks merged into supervariable i (size n)
+  // The blocks of supervariable i: i, next_block_[i], ... to -1, ending at last_block_[i].
+  std::vector<int> next_block_, last_block_;  // (size n)
   Mass live_;                               // mass of all variables not yet eliminated
   std::vector<Key> key_;                    // (size n)
   std::vector<int64_t> exact_;              // exact fill of i when known, else -1 (size n)
