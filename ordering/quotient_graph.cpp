@@ -128,9 +128,10 @@ class QuotientGame {
     const Graph& graph = pattern.graph();
     int64_t entries = 0;
     for (int i = 0; i < n_; ++i) entries += static_cast<int64_t>(graph.neighbors(i).size());
-    // Room for the variables' lists and about as much again for the elements' (a live element's
-    // members mostly mirror entries of its variables' E_i), so that compactions are rare.
-    iw_.resize(static_cast<size_t>(2 * entries + 2 * static_cast<int64_t>(n_) + 16));
+    // Room for the variables' lists and, by default, about as much again for the elements' (a
+    // live element's members mostly mirror entries of its variables' E_i): compactions are rare.
+    const auto room = static_cast<int64_t>(std::max(0.0, opt.element_room) * static_cast<double>(entries + n_));
+    iw_.resize(static_cast<size_t>(entries + n_ + room + 16));
     for (int i = 0; i < n_; ++i) {
       const int64_t w = opt.weighted ? pattern.block(i).size : 1;
       mass_[i] = {1, w, w * w};

@@ -57,6 +57,10 @@ struct QuotientOptions {
   QuotientScore score = QuotientScore::degree;
   bool weighted = false;  // block sizes as weights (else every block weighs 1)
   TieBreak tie = TieBreak::highest_index;
+  // Room for the elements' lists in the workspace, in entries per entry of the graph: the lists
+  // are compacted when it fills (AMD's garbage collection). The order does not depend on it; a
+  // test sets 0 to compact often.
+  double element_room = 1;
 };
 
 // One step of the game as the quotient graph saw it, for tests: the pivot supervariable's

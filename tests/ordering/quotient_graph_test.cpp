@@ -65,6 +65,22 @@ TEST(QuotientGraph, RandomGraphsGiveAPermutation) {
   }
 }
 
+// The workspace compacted whenever an element does not fit (no room for elements beyond the
+// graph's own entries) gives the same orders as the default room, where compactions are rare.
+TEST(QuotientGraph, CompactingTheWorkspaceLeavesTheOrderAsItWas) {
+  std::vector<BlockPattern> patterns;
+  for (uint32_t seed = 1; seed <= 10; ++seed) patterns.push_back(random_pattern(20 + 4 * seed, 0.1, seed));
+  for (const char* family : {"grid", "tree", "star", "heavy"}) patterns.push_back(constraint_graph(make_family(family, 300, 2)));
+  const SymmetricCsc a = read_matrix_market(std::string(LDLPGS_MATRICES) + "/bcsstk01.mtx");
+  patterns.push_back(BlockPattern::from_scalar(a, partition_auto(a)));
+  for (const BlockPattern& p : patterns)
+    for (QuotientOptions o : kForms) {
+      const std::vector<int> roomy = quotient_order(p, o);
+      o.element_room = 0;
+      EXPECT_EQ(quotient_order(p, o), roomy) << p.num_blocks() << " blocks, score " << static_cast<int>(o.score);
+    }
+}
+
 // After each step, the degree the quotient graph keeps for every block next to the pivot is at
 // least the block's degree in the elimination graph, recounted on a dense adjacency matrix.
 TEST(QuotientGraph, ApproximateDegreeBoundsTheExactDegree) {
