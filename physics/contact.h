@@ -96,7 +96,8 @@ struct ContactKey {
     if (x.body_a != y.body_a) return x.body_a < y.body_a;
     if (x.body_b != y.body_b) return x.body_b < y.body_b;
     if (x.shape_a != y.shape_a) return x.shape_a < y.shape_a;
-    return x.shape_b < y.shape_b;
+    if (x.shape_b != y.shape_b) return x.shape_b < y.shape_b;
+    return x.index < y.index;  // (a total order: std::sort then gives one result)
   }
 };
 

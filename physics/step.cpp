@@ -428,8 +428,8 @@ void Simulation::order_factored_first() {
   contact_keys_.resize(n);
   for (int i = 0; i < n; ++i) {
     const Contact& c = contacts_[i];
-    // (unfactored: after every body, then by index)
-    contact_keys_[i] = c.factored ? ContactKey{c.body_a, c.body_b, 0, i, i} : ContactKey{INT_MAX, 0, 0, i, i};
+    // (unfactored: after every body, in the detector's order)
+    contact_keys_[i] = c.factored ? ContactKey{c.body_a, c.body_b, c.shape_a, c.shape_b, i} : ContactKey{INT_MAX, 0, 0, 0, i};
   }
   std::sort(contact_keys_.begin(), contact_keys_.end());
   previous_contacts_.resize(n);
