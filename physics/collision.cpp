@@ -104,6 +104,19 @@ void place(dGeomID g, const Shape& s, const RigidBody& body, double margin) {
   dGeomSetQuaternion(g, dq);
 }
 
+// A box shape's frame in the world (rotation, centre) and half extents, for near_callback.
+struct InflatedBox {
+  Eigen::Matrix3d rotation;
+  Eigen::Vector3d centre, half_extents;
+  // The point moved into the box across the contact plane only: the part of what the clamp
+  // removes that lies along the normal n is kept.
+  Eigen::Vector3d clamp(const Eigen::Vector3d& point, const Eigen::Vector3d& n) const {
+    const Eigen::Vector3d local = rotation.transpose() * (point - centre), n_local = rotation.transpose() * n;
+    const Eigen::Vector3d within = local.cwiseMax(-half_extents).cwiseMin(half_extents);
+    return centre + rotation * (within + (local - within).dot(n_local) * n_local);
+  }
+};
+
 // The broad phase's candidate pair (their bounding boxes overlap) to dCollide, unless
 // the rules of shape.h keep it apart. ODE's normal points into the first geom (moving o1 along it
 // separates them). Body a is the pair's lower index whatever order the sweep passes them in (its
@@ -122,6 +135,16 @@ void near_callback(void* data, dGeomID o1, dGeomID o2) {
   const bool flip = x.body < y.body;  // then a = o1's body and the normal is ODE's reversed
   const GeomOwner &a = flip ? x : y, &b = flip ? y : x;
   const double ma = g.margin[a.body], mb = g.margin[b.body];
+  // An inflated box's corners stand out by its margin sideways too: its points are brought back
+  // within the real box (a sphere or capsule grows along its own normals, which needs none).
+  InflatedBox boxes[2];
+  int clamped = 0;
+  for (const GeomOwner* o : {&a, &b}) {
+    const RigidBody& body = m.bodies[o->body];
+    const Shape& s = body.shapes[o->shape];
+    if (s.type == ShapeType::box && g.margin[o->body] != 0)
+      boxes[clamped++] = {(body.orientation * s.orientation).toRotationMatrix(), body.to_world(s.position), s.half_extents};
+  }
   for (int i = 0; i < n; ++i) {
     const dContactGeom& c = points[i];
     ContactPoint p;
@@ -135,19 +158,7 @@ void near_callback(void* data, dGeomID o1, dGeomID o2) {
     // them: their depth is c.depth - ma - mb, about the point midway between them.
     p.depth = c.depth - ma - mb;
     p.position = Eigen::Vector3d(c.pos[0], c.pos[1], c.pos[2]) + 0.5 * (mb - ma) * p.normal;
-    // An inflated box's corners stand out by its margin sideways too: the point is brought back
-    // within the real box (a sphere or capsule grows along its own normals, which needs none).
-    for (const GeomOwner* o : {&a, &b}) {
-      const RigidBody& body = m.bodies[o->body];
-      const Shape& s = body.shapes[o->shape];
-      if (s.type != ShapeType::box || g.margin[o->body] == 0) continue;
-      const Eigen::Quaterniond q = body.orientation * s.orientation;
-      const Eigen::Vector3d centre = body.to_world(s.position);
-      const Eigen::Vector3d local = q.conjugate() * (p.position - centre);
-      const Eigen::Vector3d within = local.cwiseMax(-s.half_extents).cwiseMin(s.half_extents);
-      const Eigen::Vector3d outside = local - within;  // what the clamp removes, the part along the normal kept
-      p.position = centre + q * (within + outside.dot(q.conjugate() * p.normal) * (q.conjugate() * p.normal));
-    }
+    for (int k = 0; k < clamped; ++k) p.position = boxes[k].clamp(p.position, p.normal);
     g.out->push_back(p);
   }
 }
