@@ -28,87 +28,117 @@
 #include "ldlpgs/ordering/quotient_graph.h"
 
 namespace ldlpgs {
-std::vector<int> minimum_edge_creation(const BlockPattern& pattern, bool weighted, TieBreak tie) {
-  const int nb = pattern.num_blocks();
-  std::vector<int> weight(nb, 1);
-  if (weighted) weight = pattern.block_sizes();
-  EliminationGraph g(pattern.graph());
+
+namespace {
+
+// The exact game: the queue of blocks by score, and the scratch of one step's rescoring.
+class EdgeCreationGame {
+ public:
+  EdgeCreationGame(const BlockPattern& pattern, bool weighted, TieBreak tie)
+      : nb_(pattern.num_blocks()), weight_(weighted ? pattern.block_sizes() : std::vector<int>(nb_, 1)),
+        tie_(tie), g_(pattern.graph()), current_(nb_), gained_(nb_), in_nbrs_(nb_, 0), in_gained_(nb_, 0),
+        in_outside_(nb_, 0) {
+    for (int v = 0; v < nb_; ++v) {
+      current_[v] = {g_.fill_if_eliminated(v, weight_), secondary(v), index_tie(v), v};
+      queue_.insert(current_[v]);
+    }
+  }
+
+  std::vector<int> run() {
+    std::vector<int> pivots;
+    pivots.reserve(nb_);
+    while (!queue_.empty()) {
+      const int p = std::get<3>(*queue_.begin());
+      queue_.erase(queue_.begin());
+      pivots.push_back(p);
+      nbrs_.assign(g_.neighbors(p).begin(), g_.neighbors(p).end());
+      created_.clear();
+      g_.eliminate(p, &created_);
+      for (int u : nbrs_) in_nbrs_[u] = 1;
+      for (auto [a, b] : created_) lower_common_neighbours(a, b);
+      for (int u : nbrs_) rescore_neighbour(u, p);
+      for (int u : nbrs_) {
+        in_nbrs_[u] = 0;
+        gained_[u].clear();
+      }
+    }
+    return pivots;
+  }
+
+ private:
   using Key = std::tuple<int64_t, int, int, int>;  // (fill, degree or 0, index tie, block)
-  auto secondary = [&](int v) { return tie == TieBreak::least_degree ? g.degree(v) : 0; };
-  auto index_tie = [&](int v) { return tie == TieBreak::highest_index ? -v : v; };
-  std::vector<Key> current(nb);
-  std::set<Key> queue;
-  for (int v = 0; v < nb; ++v) {
-    current[v] = {g.fill_if_eliminated(v, weight), secondary(v), index_tie(v), v};
-    queue.insert(current[v]);
+
+  int secondary(int v) const { return tie_ == TieBreak::least_degree ? g_.degree(v) : 0; }
+  int index_tie(int v) const { return tie_ == TieBreak::highest_index ? -v : v; }
+  void add_to_score(int v, int64_t delta) {
+    queue_.erase(current_[v]);
+    std::get<0>(current_[v]) += delta;
+    std::get<1>(current_[v]) = secondary(v);
+    queue_.insert(current_[v]);
   }
-  auto add_to_score = [&](int v, int64_t delta) {
-    queue.erase(current[v]);
-    std::get<0>(current[v]) += delta;
-    std::get<1>(current[v]) = secondary(v);
-    queue.insert(current[v]);
-  };
-  std::vector<int> pivots, nbrs;
-  std::vector<std::pair<int, int>> created;
-  std::vector<std::vector<int>> gained(nb);  // Z for each block of N(p), this step
-  std::vector<uint8_t> in_nbrs(nb, 0), in_gained(nb, 0), in_outside(nb, 0);
-  pivots.reserve(nb);
-  while (!queue.empty()) {
-    const int p = std::get<3>(*queue.begin());
-    queue.erase(queue.begin());
-    pivots.push_back(p);
-    nbrs.assign(g.neighbors(p).begin(), g.neighbors(p).end());
-    created.clear();
-    g.eliminate(p, &created);
-    for (int u : nbrs) in_nbrs[u] = 1;
-    for (auto [a, b] : created) {
-      gained[a].push_back(b);
-      gained[b].push_back(a);
-      const int64_t wab = static_cast<int64_t>(weight[a]) * weight[b];
-      auto na = g.neighbors(a), nb_ = g.neighbors(b);
-      // Common neighbours of a and b outside N(p), by a merge of the two sorted lists.
-      for (auto i = na.begin(), j = nb_.begin(); i != na.end() && j != nb_.end();) {
-        if (*i < *j) {
-          ++i;
-        } else if (*j < *i) {
-          ++j;
-        } else {
-          if (!in_nbrs[*i]) add_to_score(*i, -wab);
-          ++i;
-          ++j;
-        }
+
+  // The new edge (a, b): every common neighbour of a and b outside N(p) misses it no longer.
+  void lower_common_neighbours(int a, int b) {
+    gained_[a].push_back(b);
+    gained_[b].push_back(a);
+    const int64_t wab = static_cast<int64_t>(weight_[a]) * weight_[b];
+    auto na = g_.neighbors(a), nb = g_.neighbors(b);
+    for (auto i = na.begin(), j = nb.begin(); i != na.end() && j != nb.end();) {  // (a merge: sorted lists)
+      if (*i < *j) {
+        ++i;
+      } else if (*j < *i) {
+        ++j;
+      } else {
+        if (!in_nbrs_[*i]) add_to_score(*i, -wab);
+        ++i;
+        ++j;
       }
-    }
-    for (int u : nbrs) {
-      for (int z : gained[u]) in_gained[z] = 1;
-      int64_t w_outside = 0;
-      for (int y : g.neighbors(u)) {
-        if (!in_nbrs[y]) {
-          in_outside[y] = 1;
-          w_outside += weight[y];
-        }
-      }
-      int64_t delta = -static_cast<int64_t>(weight[p]) * w_outside;
-      for (auto [a, b] : created) {
-        if (a != u && b != u && !in_gained[a] && !in_gained[b]) delta -= static_cast<int64_t>(weight[a]) * weight[b];
-      }
-      for (int z : gained[u]) {
-        int64_t adjacent = 0;
-        for (int y : g.neighbors(z)) {
-          if (in_outside[y]) adjacent += weight[y];
-        }
-        delta += weight[z] * (w_outside - adjacent);
-      }
-      add_to_score(u, delta);
-      for (int y : g.neighbors(u)) in_outside[y] = 0;
-      for (int z : gained[u]) in_gained[z] = 0;
-    }
-    for (int u : nbrs) {
-      in_nbrs[u] = 0;
-      gained[u].clear();
     }
   }
-  return pivots;
+
+  // u in N(p): the three terms of the comment above, with O its neighbours outside N(p) and Z
+  // the neighbours it gained.
+  void rescore_neighbour(int u, int p) {
+    for (int z : gained_[u]) in_gained_[z] = 1;
+    int64_t w_outside = 0;
+    for (int y : g_.neighbors(u)) {
+      if (!in_nbrs_[y]) {
+        in_outside_[y] = 1;
+        w_outside += weight_[y];
+      }
+    }
+    int64_t delta = -static_cast<int64_t>(weight_[p]) * w_outside;
+    for (auto [a, b] : created_) {
+      if (a != u && b != u && !in_gained_[a] && !in_gained_[b]) delta -= static_cast<int64_t>(weight_[a]) * weight_[b];
+    }
+    for (int z : gained_[u]) {
+      int64_t adjacent = 0;
+      for (int y : g_.neighbors(z)) {
+        if (in_outside_[y]) adjacent += weight_[y];
+      }
+      delta += weight_[z] * (w_outside - adjacent);
+    }
+    add_to_score(u, delta);
+    for (int y : g_.neighbors(u)) in_outside_[y] = 0;
+    for (int z : gained_[u]) in_gained_[z] = 0;
+  }
+
+  const int nb_;
+  const std::vector<int> weight_;
+  const TieBreak tie_;
+  EliminationGraph g_;
+  std::vector<Key> current_;
+  std::set<Key> queue_;
+  std::vector<int> nbrs_;                      // N(p), this step
+  std::vector<std::pair<int, int>> created_;   // E+, this step
+  std::vector<std::vector<int>> gained_;       // Z for each block of N(p), this step
+  std::vector<uint8_t> in_nbrs_, in_gained_, in_outside_;
+};
+
+}  // namespace
+
+std::vector<int> minimum_edge_creation(const BlockPattern& pattern, bool weighted, TieBreak tie) {
+  return EdgeCreationGame(pattern, weighted, tie).run();
 }
 
 std::vector<int> order_meca_exact(const BlockPattern& pattern) {
