@@ -325,33 +325,46 @@ void StepSummary::print_table() const {
                 static_cast<double>(std::filesystem::file_size(a.html_file)) / 1e6);
 }
 
-// The run's a.steps steps, each added to the totals and to the files, which are then finished.
-void step_through(const StepArgs& a, const SteppedScene& scene, Simulation* sim, StepFiles* files, StepTotals* totals) {
-  files->add(0, *sim, StepReport{}, scene);
-  const double size = mechanism_size(scene.original);
-  for (int s = 1; s <= a.steps; ++s) {
-    const StepReport r = sim->step();
-    totals->add(s, r, size);
-    files->add(s, *sim, r, scene);
+// A run as step and view make it: the scene, the files opened before any step, the simulation
+// and, once step_all() is done, its totals.
+struct StepRun {
+  const StepArgs& a;
+  const StepOptions options;
+  const SteppedScene scene;
+  StepFiles files;
+  Simulation sim;
+  StepTotals totals;
+
+  explicit StepRun(const StepArgs& args)
+      : a(args), options(step_options(a)), scene(stepped_scene(a, options)), files(a, scene),
+        sim(scene.shattered.mechanism, options) {}
+  // The a.steps steps, each added to the totals and to the files, which are then finished.
+  void step_all() {
+    files.add(0, sim, StepReport{}, scene);
+    const double size = mechanism_size(scene.original);
+    for (int s = 1; s <= a.steps; ++s) {
+      const StepReport r = sim.step();
+      totals.add(s, r, size);
+      files.add(s, sim, r, scene);
+    }
+    files.finish(a, sim);
   }
-  files->finish(a, *sim);
-}
+};
 
 // `command`: step or view (the --json object's "command").
 int run_step(const StepArgs& a, const char* command) {
-  const StepOptions options = step_options(a);
-  const SteppedScene scene = stepped_scene(a, options);
-  StepFiles files(a, scene);
+  StepRun run(a);
+  const SteppedScene& scene = run.scene;
   const AppliedLoads loads(scene.original);
   const double energy_initial = total_energy(scene.shattered.mechanism);
   const double position_error_initial = constraint_error(scene.shattered.mechanism).position_max;
-  Simulation sim(scene.shattered.mechanism, options);
-  StepTotals totals;
-  step_through(a, scene, &sim, &files, &totals);
+  run.step_all();
+  const Simulation& sim = run.sim;
+  const StepTotals& totals = run.totals;
   const double energy_final = total_energy(sim.mechanism());
   const bool finite = std::isfinite(energy_final) && std::isfinite(totals.worst.error.position_max);
   const Symbolic* symbolic = sim.solver().symbolic();
-  const StepSummary summary{a,    scene,          sim, totals, loads, files, energy_initial, energy_final,
+  const StepSummary summary{a,    scene,          sim, totals, loads, run.files, energy_initial, energy_final,
                             position_error_initial, finite, symbolic ? symbolic->ordering() : ""};
   if (a.json) summary.print_json(command);
   else summary.print_table();
@@ -455,19 +468,15 @@ ViewPage write_view_page(const std::string& scene_name, int steps, const std::st
   a.scene = scene_name;
   a.steps = steps;
   a.html_file = html_file;
-  const StepOptions options = step_options(a);
-  const SteppedScene scene = stepped_scene(a, options);
-  StepFiles files(a, scene);
-  Simulation sim(scene.shattered.mechanism, options);
-  StepTotals totals;
-  step_through(a, scene, &sim, &files, &totals);
+  StepRun run(a);
+  run.step_all();
   ViewPage page;
-  page.frames = files.recording->frames();
+  page.frames = run.files.recording->frames();
   page.bytes = static_cast<int64_t>(std::filesystem::file_size(html_file));
-  page.simulated_s = sim.time();
-  page.position_error_max_m = totals.worst.error.position_max;
-  page.penetration_max_m = totals.worst.penetration_max_m;
-  page.failure = totals.came_apart;
+  page.simulated_s = run.sim.time();
+  page.position_error_max_m = run.totals.worst.error.position_max;
+  page.penetration_max_m = run.totals.worst.penetration_max_m;
+  page.failure = run.totals.came_apart;
   return page;
 }
 
