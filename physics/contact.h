@@ -85,7 +85,7 @@ struct Contact {
 ConstraintRows evaluate(const Contact& contact, const RigidBody& a, const RigidBody& b);
 
 // A contact's pair (bodies, then shapes) and its place in a list: what the matching sorts, so that
-// it moves 24 bytes per contact rather than a Contact.
+// it moves 20 bytes per contact rather than a Contact. The index breaks ties.
 struct ContactKey {
   int body_a = -1, body_b = -1, shape_a = -1, shape_b = -1;
   int index = -1;
