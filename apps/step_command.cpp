@@ -68,7 +68,7 @@ StepOptions step_options(const StepArgs& a) {
   o.solver.schedule = schedule_option("--schedule", a.schedule);
   if (a.iterations < 1) throw InputError("--iterations must be at least 1");
   if (a.post_stabilize < 0 && a.post_stabilize != StepOptions::kAutoPostStabilize)
-    throw InputError("--post-stabilize must be >= 0 iterations (0: off; default: 8 with ldl-pgs and direct, 0 with pgs and block-gs)");
+    throw InputError("--post-stabilize must be >= 0 iterations (0: off; default: 30 with ldl-pgs and direct, 0 with pgs and block-gs)");
   if (!(a.compliance >= 0) || !std::isfinite(a.compliance)) throw InputError("--compliance must be finite and >= 0");
   if (!(a.baumgarte >= 0 && a.baumgarte <= 1)) throw InputError("--baumgarte must be in [0, 1]");
   find_ordering(a.ordering);  // throws on an unknown name
@@ -429,7 +429,7 @@ void add_step_options(CLI::App* cmd, StepArgs* a) {
       ->capture_default_str();
   cmd->add_option("--post-stabilize", a->post_stabilize,
                   "At most this many position projection iterations per step on the step's own factor (0: off; "
-                  "default 8 with ldl-pgs and direct, 0 with pgs and block-gs)")
+                  "default 30 with ldl-pgs and direct, 0 with pgs and block-gs)")
       ->check(integer_in(0, std::numeric_limits<int>::max()));
   cmd->add_flag("--post-stabilize-refactor", a->post_stabilize_refactor,
                 "Refactor at the corrected pose in each post-stabilization iteration (Newton)");

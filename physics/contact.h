@@ -49,9 +49,13 @@ struct ContactOptions {
   // alternating the exact block and the contact rows converges where the talk's single block
   // sweep lets them feed each other (papers/physics.md, "Schedules with contacts").
   HybridSchedule schedule = HybridSchedule::block_gs;
-  // ... and the post-stabilization's, with this many iterations (LDL^T solves with the step's
-  // factor), on a step with contacts.
-  int position_iterations = 10;
+  // ... and the post-stabilization's, with at most this many iterations (LDL^T solves), stopping
+  // once the correction no longer changes, on a step with contacts.
+  int position_iterations = 100;
+  // On a step with contacts the post-stabilization refactors at each corrected pose (Newton,
+  // StepOptions::post_stabilize_refactor): with J_0 the projection of joints and contacts on the
+  // same bodies converges slowly or not at all (papers/physics.md, "The heavy ball on a chain").
+  bool refactor_projection = true;
   // A factored normal row's regularization and compliance (RowBlock::regularization, System::
   // compliance): a manifold's points are redundant (4 rows, 3 degrees of freedom), and so are
   // contacts and joints holding the same body, so H is singular on them; what the exact solve

@@ -604,8 +604,10 @@ Mechanism pyramid(const std::string& name, int layers) {
 }
 
 // n capsule links (radius 5 cm, 0.5 m between joints, 1 kg) held horizontal from a ball joint
-// 2 m above the ground, a ball of radius 0.25 m and `ratio` times a link's mass on the free end;
-// released, it swings down onto the ground and lies on it.
+// 2 m above the ground, a ball of radius 0.25 m and `ratio` times a link's mass centred on the
+// free end (the last joint at its centre, as a pendulum's bob: a joint on its surface would roll
+// under the ball and pull the last link into the ground, which no solver can hold); released, it
+// swings down onto the ground and lies on it.
 Mechanism ball_chain(const std::string& name, int n, double ratio) {
   const double l = 0.5, r = 0.05, ball_radius = 0.25, height = 2;
   Mechanism m;
@@ -629,7 +631,7 @@ Mechanism ball_chain(const std::string& name, int n, double ratio) {
     previous = k;
   }
   const double mass = ratio;
-  RigidBody bob = dynamic_body("ball", mass, sphere_inertia(mass, ball_radius), Vector3d(l * n + ball_radius, height, 0));
+  RigidBody bob = dynamic_body("ball", mass, sphere_inertia(mass, ball_radius), Vector3d(l * n, height, 0));
   Shape sphere;
   sphere.type = ShapeType::sphere;
   sphere.radius = ball_radius;

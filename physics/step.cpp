@@ -206,7 +206,7 @@ bool equality_only(const Mechanism& m) { return m.first_inequality() < 0 && !has
 int post_stabilize_iterations(const StepOptions& options) {
   if (options.post_stabilize != StepOptions::kAutoPostStabilize) return options.post_stabilize;
   const bool factors = options.solver.kind == SolverKind::ldl_pgs || options.solver.kind == SolverKind::direct;
-  return factors ? 8 : 0;
+  return factors ? 30 : 0;
 }
 
 System build_system(const Mechanism& m, const StepOptions& options) {
@@ -254,15 +254,11 @@ Simulation::Simulation(Mechanism mechanism, const StepOptions& options)
 }
 
 void Simulation::make_projector() {
-  if (options_.post_stabilize > 0 && (!solver_.symbolic() || options_.post_stabilize_refactor)) {
+  if (options_.post_stabilize > 0 && !solver_.symbolic()) {
     // pgs and block-gs have no factor: the projection gets one of its own, the hybrid on
-    // inequality rows (contacts among them), exact otherwise; so does a refactoring projection,
-    // which calls solve() and so would run the velocity level's iterations, not
-    // post_stabilize_sweeps.
+    // inequality rows (contacts among them), exact otherwise.
     SolverOptions o = options_.solver;
     o.kind = equality_only(mechanism_) ? SolverKind::direct : SolverKind::ldl_pgs;
-    o.iterations = options_.post_stabilize_sweeps;
-    o.schedule = HybridSchedule::inequality_pgs;
     projector_ = std::make_unique<Solver>(system_, o);
   }
 }
@@ -323,45 +319,86 @@ double Simulation::position_rhs(bool with_jacobian) {
 
 bool Simulation::post_stabilize(StepReport* report) {
   Solver& solver = projector_ ? *projector_ : solver_;
-  const bool refactor = options_.post_stabilize_refactor;
-  const int sweeps = options_.post_stabilize_sweeps;  // (an exact solve, without inequality rows, ignores it)
+  const int cap = options_.post_stabilize;
+  bool refactor = options_.post_stabilize_refactor || (options_.contacts.refactor_projection && !contacts_.empty());
   double previous = kUnbounded;
   for (int it = 0;; ++it) {
-    const double error = position_rhs(refactor && it < options_.post_stabilize);
-    // A correction that did not lower the largest error is undone, and the projection stops: on
-    // a mechanism whose position-level hybrid has not converged (limits that the velocity step
-    // left far from their active set) the corrections otherwise feed an instability.
+    const bool with_jacobian = refactor && it < cap;  // (the last evaluation only measures)
+    double error = position_rhs(with_jacobian);
+    if (it > 0 && !(error < previous)) error = shorten_correction(previous, with_jacobian);
+    // A correction that did not lower the largest error even shortened is undone. J_0's
+    // projection then turns to Newton's from the last pose; Newton's stops: on a mechanism whose
+    // position-level hybrid has not converged (limits that the velocity step left far from their
+    // active set) the corrections otherwise feed an instability.
     if (!(error < previous)) {
-      if (it > 0) {
-        restore_pose();
-        evaluated_valid_ = false;
-        --report->post_stabilize_iterations;
-        ++post_stabilize_rejected_;
-      }
-      break;
+      if (it == 0) break;
+      undo_correction(report);
+      if (refactor || !options_.post_stabilize_refactor_on_stall || it == cap) break;
+      refactor = true;
+      error = position_rhs(/*with_jacobian=*/true);
+    } else if (!refactor && it > 0 && error > 0.5 * previous && options_.post_stabilize_refactor_on_stall && it < cap) {
+      refactor = true;  // J_0's corrections converge too slowly here (a fast swing)
+      error = position_rhs(/*with_jacobian=*/true);
     }
-    if (error <= options_.post_stabilize_tolerance || it == options_.post_stabilize) break;
+    if (error <= options_.post_stabilize_tolerance || it == cap) break;
     previous = error;
     save_pose();
     std::fill(mu_.begin(), mu_.end(), 0.0);
     // Without a factor of its own (pgs, block-gs) the projector factors once per step, at J_0.
     SolveResult r;
-    if (refactor || (projector_ && it == 0)) r = solver.solve(system_, mu_, dv_);  // (sweeps: the projector's own)
-    else if (!contacts_.empty())
-      r = solver.resolve(system_, mu_, dv_, options_.contacts.position_iterations, options_.contacts.schedule);
-    else r = solver.resolve(system_, mu_, dv_, sweeps, HybridSchedule::inequality_pgs);
+    if (refactor || (projector_ && it == 0)) r = solver.factorize(system_);
     if (!r.ok()) return false;
-    evaluated_valid_ = false;
-    int c = 0;
-    for (RigidBody& b : mechanism_.bodies) {
-      if (b.is_static) continue;
-      const double* dq = dv_.data() + 6 * c++;  // W J^T dmu
-      b.position += Eigen::Vector3d(dq[0], dq[1], dq[2]);
-      rotate(b, Eigen::Vector3d(dq[3], dq[4], dq[5]));
-    }
+    if (!solve_correction(solver)) return false;
+    apply_correction(1);
     ++report->post_stabilize_iterations;
   }
   return true;
+}
+
+// dmu for the current position error (rhs), and dv_ = W J^T dmu. Contacts take their own
+// schedule, block Gauss-Seidel run until the correction stops changing: the single block
+// iteration of inequality-pgs leaves joints and contacts coupled, which turns Newton's quadratic
+// convergence into a linear one (papers/physics.md, "The heavy ball on a chain").
+bool Simulation::solve_correction(Solver& solver) {
+  if (contacts_.empty())
+    return solver.resolve(system_, mu_, dv_, options_.post_stabilize_sweeps, HybridSchedule::inequality_pgs).ok();
+  const double converged = 0.1 * options_.post_stabilize_tolerance;
+  return solver.resolve(system_, mu_, dv_, options_.contacts.position_iterations, options_.contacts.schedule, converged).ok();
+}
+
+void Simulation::undo_correction(StepReport* report) {
+  restore_pose();
+  evaluated_valid_ = false;
+  --report->post_stabilize_iterations;
+  ++post_stabilize_rejected_;
+}
+
+// The saved pose moved by `scale` times the last correction W J^T dmu (dv_): positions by its
+// linear part, orientations by its angular part as a world-frame rotation vector.
+void Simulation::apply_correction(double scale) {
+  evaluated_valid_ = false;
+  int c = 0;
+  for (RigidBody& b : mechanism_.bodies) {
+    if (b.is_static) continue;
+    const double* dq = dv_.data() + 6 * c++;
+    b.position += scale * Eigen::Vector3d(dq[0], dq[1], dq[2]);
+    rotate(b, scale * Eigen::Vector3d(dq[3], dq[4], dq[5]));
+  }
+}
+
+// A correction that raised the largest error is retried at half, a quarter, ... (a backtracking
+// line search, kBacktracks times): near a straight chain's configuration a full Newton or J_0
+// step overshoots where a shorter one still lowers the error (papers/physics.md, "The heavy ball
+// on a chain"). Returns the error at the last pose tried.
+double Simulation::shorten_correction(double previous, bool with_jacobian) {
+  constexpr int kBacktracks = 4;
+  double error = kUnbounded;
+  for (int h = 1; h <= kBacktracks && !(error < previous); ++h) {
+    restore_pose();
+    apply_correction(std::ldexp(1.0, -h));
+    error = position_rhs(with_jacobian);
+  }
+  return error;
 }
 
 // This step's contact points, matched with the last step's, as two blocks each past the

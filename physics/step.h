@@ -45,7 +45,7 @@ struct StepOptions {
   double baumgarte = 0.2;  // beta: fraction of the position error corrected per step
   // Post-stabilization: at most this many iterations per step reusing the step's factor (0:
   // off), stopping once no row's error exceeds the tolerance (m on translational rows, rad on
-  // angular ones; inequality rows count only when violated). kAutoPostStabilize: 8 on the
+  // angular ones; inequality rows count only when violated). kAutoPostStabilize: 30 on the
   // solvers that factor (ldl-pgs, direct), 0 on pgs and block-gs, which have no factor to reuse
   // (given a count, they get one of their own: a factorization per step). Defaults chosen by
   // measurement (papers/physics.md, "Post-stabilization").
@@ -54,6 +54,10 @@ struct StepOptions {
   double post_stabilize_tolerance = 1e-9;
   // Each post-stabilization iteration refactors at the corrected pose (Newton) instead.
   bool post_stabilize_refactor = false;
+  // ... from the first correction with J_0 that lowers the error by less than half (or not at
+  // all, even shortened), as on a fast swing, instead of going on or stopping there
+  // (papers/physics.md, "The heavy ball on a chain").
+  bool post_stabilize_refactor_on_stall = true;
   // Iterations of the hybrid at position level on a mechanism with inequality rows (limits,
   // ropes), as PGS sweeps over the inequality rows only, then the block step (schedule
   // inequality-pgs): ropes nearly redundant with rods need the position solve converged on their
@@ -178,6 +182,10 @@ class Simulation {
   void velocity_system();                   // J, W, rhs at the current pose into system_
   double position_rhs(bool with_jacobian);  // rhs = -c at the current pose (and J, W with it); max error
   bool post_stabilize(StepReport* report);  // false: a factorization failed
+  void apply_correction(double scale);       // the saved pose moved by scale W J^T dmu
+  double shorten_correction(double previous, bool with_jacobian);  // backtracking; the error reached
+  void undo_correction(StepReport* report);  // back to the saved pose, counted as rejected
+  bool solve_correction(Solver& solver);     // dmu and dv_ for the current rhs; false: no factor
   void save_pose();
   void restore_pose();
   void make_projector();                    // projector_, when the solver has no factor to reuse

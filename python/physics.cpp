@@ -215,7 +215,7 @@ void bind_physics(py::module_& m) {
                          "--no-shatter` steps it: the module does not shatter bodies.\n"
                          "scene: a scene file (JSON), an MJCF file (.xml), a built-in scene's name (builtin_scenes()) "
                          "or a dict in the scene file format. The other arguments are `ldlpgs step`'s options; "
-                         "post_stabilize=None is the solver's default (8 with ldl-pgs and direct, 0 with pgs and "
+                         "post_stabilize=None is the solver's default (30 with ldl-pgs and direct, 0 with pgs and "
                          "block-gs), timestep=None the scene's. diagnostics=False skips the per-step constraint "
                          "error and energy (step() then reports zeros for them).")
       .def(py::init(&make_simulation), py::arg("scene"), py::arg("solver") = to_string(defaults.solver.kind),

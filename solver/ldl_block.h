@@ -68,7 +68,15 @@ class LdlBlock {
 
 // ldl_pgs.cpp: ldl-pgs's iterations on a system with inequality rows, after the factorization
 // (factored: whether it succeeded; if not, only the PGS sweeps run and lambda keeps their impulses).
-void ldl_pgs_iterate(const System& system, int iterations, HybridSchedule schedule, const RowCache& rows,
-                     LdlBlock& ldl, bool factored, std::span<double> lambda, std::span<double> dv);
+// The block-gs schedule stops early once an iteration changes no entry of dV by more than
+// `tolerance` (0: never), comparing against `dv_before` (scratch, the size of dV).
+struct LdlPgsIterations {
+  int count;
+  HybridSchedule schedule;
+  double tolerance;
+  std::span<double> dv_before;
+};
+void ldl_pgs_iterate(const System& system, const LdlPgsIterations& iterations, const RowCache& rows, LdlBlock& ldl,
+                     bool factored, std::span<double> lambda, std::span<double> dv);
 
 }  // namespace ldlpgs

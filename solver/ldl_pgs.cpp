@@ -7,6 +7,7 @@
 #include "ldlpgs/solver/ldl_block.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "ldlpgs/ordering/ordering.h"
 
@@ -160,16 +161,30 @@ void LdlBlock::exact_solve(const System& system, const RowCache& rows, std::span
   }
 }
 
-void ldl_pgs_iterate(const System& system, int iterations, HybridSchedule schedule, const RowCache& rows,
-                     LdlBlock& ldl, bool factored, std::span<double> lambda, std::span<double> dv) {
-  const int sweeps = schedule == HybridSchedule::block_gs ? 0 : iterations - 1;
-  const bool inequality_only = schedule == HybridSchedule::inequality_pgs;
+namespace {
+
+double largest_change(std::span<const double> before, std::span<const double> after) {
+  double change = 0;
+  for (size_t i = 0; i < after.size(); ++i) change = std::max(change, std::abs(after[i] - before[i]));
+  return change;
+}
+
+}  // namespace
+
+void ldl_pgs_iterate(const System& system, const LdlPgsIterations& iterations, const RowCache& rows, LdlBlock& ldl,
+                     bool factored, std::span<double> lambda, std::span<double> dv) {
+  const bool block_gs = iterations.schedule == HybridSchedule::block_gs;
+  const int sweeps = block_gs ? 0 : iterations.count - 1;
+  const bool inequality_only = iterations.schedule == HybridSchedule::inequality_pgs;
   for (int it = 0; it < sweeps; ++it) pgs_sweep(system, rows, lambda, dv, inequality_only);
   if (!factored) return;  // lambda keeps the PGS impulses; the caller reports the status
-  const int block_sweeps = schedule == HybridSchedule::block_gs ? iterations : 1;
+  const int block_sweeps = block_gs ? iterations.count : 1;
+  const bool stop_early = block_gs && iterations.tolerance > 0;
   for (int it = 0; it < block_sweeps; ++it) {
+    if (stop_early) std::copy(dv.begin(), dv.end(), iterations.dv_before.begin());
     ldl.block_step(system, rows, lambda, dv);
     pgs_sweep(system, rows, lambda, dv, /*inequality_only=*/true);
+    if (stop_early && largest_change(iterations.dv_before, dv) <= iterations.tolerance) break;
   }
 }
 

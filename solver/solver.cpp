@@ -54,6 +54,7 @@ class SolverState {
   bool exact = false;
   FactorInfo factor;  // the last solve's factorization (ldl-pgs, direct)
   SymbolicStats stats;
+  std::vector<double> dv_before;  // dV before a block Gauss-Seidel iteration (size 6 num_columns)
 
   // The LDL block serving `system`'s factored blocks, analysed now if no cached one does.
   LdlBlock& ldl_for(const System& system) {
@@ -74,6 +75,7 @@ class SolverState {
 Solver::Solver(const System& system, const SolverOptions& options)
     : options_(options), state_(std::make_unique<SolverState>()) {
   assert(options.iterations >= 1);
+  state_->dv_before.resize(6 * static_cast<size_t>(system.num_columns));
   if (options.kind == SolverKind::ldl_pgs || options.kind == SolverKind::direct) {
     state_->factors = true;
     state_->ordering = options.ordering;
@@ -101,8 +103,7 @@ void warm_start(const System& system, std::span<double> lambda, std::span<double
 
 }  // namespace
 
-SolveResult Solver::solve(const System& system, std::span<double> lambda, std::span<double> dv,
-                          std::optional<HybridSchedule> schedule) {
+SolveResult Solver::factorize(const System& system) {
   SolverState& s = *state_;
   s.exact = std::all_of(system.blocks.begin(), system.blocks.end(), [](const RowBlock& b) { return b.equality; });
   if (options_.kind == SolverKind::direct && !s.exact)
@@ -110,11 +111,19 @@ SolveResult Solver::solve(const System& system, std::span<double> lambda, std::s
   s.rows.update(system);
   if (s.factors) s.factor = s.ldl_for(system).factorize(system, s.rows);
   if (options_.kind == SolverKind::block_gs) s.blocks.update(system);
+  SolveResult result;
+  if (s.factors) result.factor = s.factor;
+  return result;
+}
+
+SolveResult Solver::solve(const System& system, std::span<double> lambda, std::span<double> dv,
+                          std::optional<HybridSchedule> schedule) {
+  factorize(system);
   return resolve(system, lambda, dv, 0, schedule);
 }
 
 SolveResult Solver::resolve(const System& system, std::span<double> lambda, std::span<double> dv, int iterations,
-                            std::optional<HybridSchedule> schedule) {
+                            std::optional<HybridSchedule> schedule, double tolerance) {
   // Caller errors that would corrupt memory are checked in every build.
   if (static_cast<int>(lambda.size()) != system.num_rows || static_cast<int>(dv.size()) != 6 * system.num_columns)
     throw std::invalid_argument("Solver: lambda must have num_rows entries and dv 6 num_columns");
@@ -134,10 +143,12 @@ SolveResult Solver::resolve(const System& system, std::span<double> lambda, std:
     case SolverKind::block_gs:
       for (int it = 0; it < n; ++it) block_gs_sweep(system, s.rows, s.blocks, lambda, dv);
       break;
-    case SolverKind::ldl_pgs:
+    case SolverKind::ldl_pgs: {
       result.factor = s.factor;
-      ldl_pgs_iterate(system, n, schedule.value_or(options_.schedule), s.rows, *s.ldl.front(), s.factor.usable(), lambda, dv);
+      const LdlPgsIterations iterations{n, schedule.value_or(options_.schedule), tolerance, s.dv_before};
+      ldl_pgs_iterate(system, iterations, s.rows, *s.ldl.front(), s.factor.usable(), lambda, dv);
       break;
+    }
     case SolverKind::direct:  // exact (checked in solve)
       break;
   }

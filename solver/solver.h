@@ -89,13 +89,18 @@ class Solver {
   // `schedule` overrides options()' for this call (the physics step's contacts take their own).
   SolveResult solve(const System& system, std::span<double> lambda, std::span<double> dv,
                     std::optional<HybridSchedule> schedule = std::nullopt);
-  // The same iterations on the matrix of the last solve(): `system` must hold the J, W and
+  // solve()'s first half: the numeric factorization (and the row and block caches) for `system`,
+  // whose status it returns; resolve() then iterates on it.
+  SolveResult factorize(const System& system);
+  // The same iterations on the matrix of the last solve() or factorize(): `system` must hold the J, W and
   // compliance that solve() was given (its rhs and lambda may differ); nothing is refactored.
   // A failed last factorization is returned again (lambda and dv are then left as pgs leaves them).
   // iterations > 0 and schedule override options()' for this call (the position level needs more
-  // sweeps on inequality rows than the velocity level: papers/physics.md).
+  // sweeps on inequality rows than the velocity level: papers/physics.md). ldl-pgs's block-gs
+  // schedule stops early once a block step starts from an equality residual of at most
+  // `tolerance` (0: it runs every iteration).
   SolveResult resolve(const System& system, std::span<double> lambda, std::span<double> dv, int iterations = 0,
-                      std::optional<HybridSchedule> schedule = std::nullopt);
+                      std::optional<HybridSchedule> schedule = std::nullopt, double tolerance = 0);
 
   const SolverOptions& options() const { return options_; }
   // The LDL^T's symbolic phase (ldl-pgs, direct), or null.

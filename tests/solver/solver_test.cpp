@@ -215,6 +215,33 @@ TEST(Solver, FactoredInequalityRowsMatchTheLcpByEnumeration) {
     }
 }
 
+// block-gs told to stop once dV stops changing (resolve's tolerance) ends at the LCP's solution,
+// having stopped before its iterations reach their fixed point.
+TEST(Solver, BlockGsStopsOnceTheCorrectionStopsChanging) {
+  const std::vector<int> sizes = {3, 1, 5, 1, 3, 1, 4};
+  const std::vector<bool> bounded = {false, true, false, true, false, true, false};
+  for (uint32_t seed = 1; seed <= 5; ++seed) {
+    const System s = random_system(6, sizes, bounded, seed, 1e-3);
+    const Eigen::VectorXd expected = lcp_by_enumeration(s);
+    Solver solver(s, {.kind = SolverKind::ldl_pgs, .iterations = 1});
+    std::vector<double> lambda(s.num_rows, 0.0), dv(6 * s.num_columns, 0.0);
+    ASSERT_TRUE(solver.factorize(s).ok());
+    ASSERT_TRUE(solver.resolve(s, lambda, dv, 4000, HybridSchedule::block_gs, 1e-13).ok());
+    EXPECT_LT(max_diff(lambda, expected), 1e-7) << "seed " << seed;
+    // The iteration count it stopped at: the first count that gives the same impulses.
+    int stopped = 1;
+    for (; stopped < 4000; ++stopped) {
+      std::vector<double> l(s.num_rows, 0.0), d(dv.size(), 0.0);
+      solver.resolve(s, l, d, stopped, HybridSchedule::block_gs);
+      if (l == lambda) break;
+    }
+    std::vector<double> all(s.num_rows, 0.0), d(dv.size(), 0.0);
+    solver.resolve(s, all, d, 4000, HybridSchedule::block_gs);
+    EXPECT_NE(all, lambda) << "seed " << seed << ": it ran to the fixed point";
+    EXPECT_LT(stopped, 4000) << "seed " << seed;
+  }
+}
+
 // A new set of factored blocks runs the symbolic phase again; a set seen before reuses its own.
 TEST(Solver, FactoredSetsReuseTheirSymbolicPhase) {
   const std::vector<int> sizes = {3, 1, 5, 1, 3};
