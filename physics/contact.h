@@ -52,7 +52,7 @@ struct ContactOptions {
   // ... and the post-stabilization's, with at most this many iterations (LDL^T solves), stopping
   // once the correction no longer changes, on a step with contacts.
   int position_iterations = 100;
-  // On a step with contacts the post-stabilization refactors at each corrected pose (Newton,
+  // On a mechanism with shapes the post-stabilization refactors at each corrected pose (Newton,
   // StepOptions::post_stabilize_refactor): with J_0 the projection of joints and contacts on the
   // same bodies converges slowly or not at all (papers/physics.md, "The heavy ball on a chain").
   bool refactor_projection = true;

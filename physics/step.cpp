@@ -320,7 +320,7 @@ double Simulation::position_rhs(bool with_jacobian) {
 bool Simulation::post_stabilize(StepReport* report) {
   Solver& solver = projector_ ? *projector_ : solver_;
   const int cap = options_.post_stabilize;
-  bool refactor = options_.post_stabilize_refactor || (options_.contacts.refactor_projection && !contacts_.empty());
+  bool refactor = options_.post_stabilize_refactor || (options_.contacts.refactor_projection && collision_);
   double previous = kUnbounded;
   for (int it = 0;; ++it) {
     const bool with_jacobian = refactor && it < cap;  // (the last evaluation only measures)
