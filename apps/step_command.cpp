@@ -43,7 +43,7 @@ struct StepArgs {
   double factor_contacts_mass_ratio = ContactOptions{}.factor_mass_ratio;
   std::string schedule = to_string(SolverOptions{}.schedule);
   int iterations = 10, steps = 200, post_stabilize = StepOptions{}.post_stabilize;
-  bool post_stabilize_refactor = false, curvature_target = false;
+  bool post_stabilize_refactor = false, post_stabilize_own_factor = false, curvature_target = false;
   double timestep = 0, compliance = StepOptions{}.compliance, baumgarte = StepOptions{}.baumgarte;
   bool json = false;
   ShatterArgs shatter;
@@ -78,6 +78,10 @@ StepOptions step_options(const StepArgs& a) {
   o.baumgarte = a.baumgarte;
   o.post_stabilize = a.post_stabilize;
   o.post_stabilize_refactor = a.post_stabilize_refactor;
+  if (a.post_stabilize_own_factor) {
+    if (a.post_stabilize_refactor) throw InputError("--post-stabilize-own-factor and --post-stabilize-refactor exclude each other");
+    use_own_factor_projection(&o);
+  }
   o.curvature_target = a.curvature_target;
   if (a.friction_cone != "disk" && a.friction_cone != "pyramid")
     throw InputError("--friction-cone " + a.friction_cone + ": unknown (known: disk pyramid)");
@@ -261,6 +265,7 @@ void StepSummary::print_json(const char* command) const {
                       {"schedule", a.schedule},
                       {"post_stabilize", sim.options().post_stabilize},
                       {"post_stabilize_refactor", a.post_stabilize_refactor},
+                      {"post_stabilize_own_factor", a.post_stabilize_own_factor},
                       {"curvature_target", a.curvature_target},
                       {"post_stabilize_iterations", totals.post_iterations},
                       {"post_stabilize_skipped", sim.post_stabilize_skipped()},
@@ -433,6 +438,9 @@ void add_step_options(CLI::App* cmd, StepArgs* a) {
       ->check(integer_in(0, std::numeric_limits<int>::max()));
   cmd->add_flag("--post-stabilize-refactor", a->post_stabilize_refactor,
                 "Refactor at the corrected pose in each post-stabilization iteration (Newton)");
+  cmd->add_flag("--post-stabilize-own-factor", a->post_stabilize_own_factor,
+                "Project with the step's own factor only (J_0), never refactoring: not when its corrections stall, "
+                "nor on a mechanism with shapes");
   cmd->add_flag("--curvature-target", a->curvature_target,
                 "Equality rows' velocity target includes the constraints' curvature along the motion (energy-consistent)");
   cmd->add_option("--trace-file", a->trace, "Write per step and body: step,time,body,x,y,z,qw,qx,qy,qz,fx,fy,fz,tx,ty,tz (CSV; f, t: the scene's constant load)");

@@ -203,6 +203,11 @@ void rotate(RigidBody& b, const Eigen::Vector3d& dtheta) {
 
 bool equality_only(const Mechanism& m) { return m.first_inequality() < 0 && !has_shapes(m); }
 
+void use_own_factor_projection(StepOptions* options) {
+  options->post_stabilize_refactor_on_stall = false;
+  options->contacts.refactor_projection = false;
+}
+
 int post_stabilize_iterations(const StepOptions& options) {
   if (options.post_stabilize != StepOptions::kAutoPostStabilize) return options.post_stabilize;
   const bool factors = options.solver.kind == SolverKind::ldl_pgs || options.solver.kind == SolverKind::direct;

@@ -80,6 +80,10 @@ bool equality_only(const Mechanism& mechanism);
 
 // Position errors over all constraint rows, at the current pose: equality rows |c|, inequality
 // rows max(0, -c) (only violation counts).
+// The talk's projection: with the step's own factor (J_0) only, never refactoring (clears
+// post_stabilize_refactor_on_stall and ContactOptions::refactor_projection).
+void use_own_factor_projection(StepOptions* options);
+
 // The iterations `options` asks for, kAutoPostStabilize resolved for its solver.
 int post_stabilize_iterations(const StepOptions& options);
 

@@ -128,7 +128,8 @@ void check_solver_fits(SolverKind kind, const Mechanism& m) {
 
 Simulation make_simulation(py::handle scene, const std::string& solver, int iterations, const std::string& ordering,
                            const std::string& schedule, double compliance, double baumgarte,
-                           std::optional<int> post_stabilize, bool post_stabilize_refactor, bool curvature_target,
+                           std::optional<int> post_stabilize, bool post_stabilize_refactor,
+                           bool post_stabilize_own_factor, bool curvature_target,
                            std::optional<double> timestep, bool diagnostics) {
   // The checks `ldlpgs step` makes of its options (apps/step_command.cpp), with the keywords' names.
   StepOptions o;
@@ -148,6 +149,10 @@ Simulation make_simulation(py::handle scene, const std::string& solver, int iter
   o.baumgarte = baumgarte;
   o.post_stabilize = post_stabilize.value_or(StepOptions::kAutoPostStabilize);
   o.post_stabilize_refactor = post_stabilize_refactor;
+  if (post_stabilize_own_factor) {
+    if (post_stabilize_refactor) throw InputError("post_stabilize_own_factor and post_stabilize_refactor exclude each other");
+    use_own_factor_projection(&o);
+  }
   o.curvature_target = curvature_target;
   o.diagnostics = diagnostics;
   Mechanism m = load_mechanism(scene);
@@ -223,6 +228,7 @@ void bind_physics(py::module_& m) {
            py::arg("schedule") = to_string(defaults.solver.schedule), py::arg("compliance") = defaults.compliance,
            py::arg("baumgarte") = defaults.baumgarte, py::arg("post_stabilize") = py::none(),
            py::arg("post_stabilize_refactor") = defaults.post_stabilize_refactor,
+           py::arg("post_stabilize_own_factor") = false,
            py::arg("curvature_target") = defaults.curvature_target, py::arg("timestep") = py::none(),
            py::arg("diagnostics") = true)
       .def(

@@ -178,7 +178,8 @@ def test_simulation_errors():
         ldlpgs.Simulation("ragdoll", solver="direct")
     for kwargs, message in [({"iterations": 0}, "iterations"), ({"timestep": -1.0}, "timestep"),
                             ({"baumgarte": 2.0}, "baumgarte"), ({"compliance": float("nan")}, "compliance"),
-                            ({"schedule": "x"}, "schedule"), ({"post_stabilize": -2}, "post_stabilize")]:
+                            ({"schedule": "x"}, "schedule"), ({"post_stabilize": -2}, "post_stabilize"),
+                            ({"post_stabilize_own_factor": True, "post_stabilize_refactor": True}, "exclude each other")]:
         with pytest.raises(ValueError, match=message):
             ldlpgs.Simulation("chain-10", **kwargs)
     sim = ldlpgs.Simulation("chain-10")

@@ -94,6 +94,11 @@ TEST(LdlpgsBadInput, StepNegativePostStabilize) {
   expect_input_error("step pendulum --post-stabilize -1", {"--post-stabilize"});
 }
 
+TEST(LdlpgsBadInput, StepOwnFactorWithRefactor) {
+  expect_input_error("step pendulum --post-stabilize-own-factor --post-stabilize-refactor",
+                     {"--post-stabilize-own-factor", "--post-stabilize-refactor", "exclude"});
+}
+
 TEST(LdlpgsBadInput, FactorContactsAfterNegative) {
   expect_input_error("step box-stack-1000 --factor-contacts-after -1", {"--factor-contacts-after"});
 }
