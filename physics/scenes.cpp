@@ -664,8 +664,10 @@ Mechanism on_ground(Mechanism m, const std::string& name, double ground_y, doubl
 
 // The tracked vehicle on the ground: its track links are boxes (the links' length, 3 cm thick,
 // 20 cm wide) that touch the ground and the wheels but not each other (conaffinity 0); the four
-// wheels are spheres just inside the tracks, which keep the loops from folding under the load
-// (each wheel is hinged to one link, which it does not touch); 300 N m on each.
+// wheels are spheres inside the tracks, which keep the loops from folding under the load (each
+// wheel is hinged to one link, which it does not touch); 300 N m on each. A link where the track
+// wraps round a wheel is a chord of the 0.3 m circle, its inner face 0.245 m from the wheel's
+// centre: a sphere of 0.24 m clears it at rest (papers/physics.md, "Vehicles on the ground").
 Mechanism tracked_vehicle_on_ground() {
   Mechanism m = tracked_vehicle();
   for (RigidBody& b : m.bodies) {
@@ -675,7 +677,7 @@ Mechanism tracked_vehicle_on_ground() {
     } else if (b.name.starts_with("wheel_")) {
       Shape s;
       s.type = ShapeType::sphere;
-      s.radius = 0.27;
+      s.radius = 0.24;
       s.friction = kContactFriction;
       b.shapes.push_back(s);
     }
