@@ -21,6 +21,10 @@ function(ldlpgs_library layer)
   target_compile_features(${target} PUBLIC cxx_std_20)
   # PIC: the Python module (python/) links these static libraries into a shared object.
   set_target_properties(${target} PROPERTIES EXPORT_NAME ${layer} POSITION_INDEPENDENT_CODE ON)
+  # Unity sources of up to 8 files (CMake's batch): a layer's files parse and instantiate the same
+  # Eigen, SuiteSparse and nlohmann-json headers, once per batch instead of once per file
+  # (DEVELOPERS.md, "Where CI's time goes"). factor/ opts out (factor/CMakeLists.txt).
+  set_target_properties(${target} PROPERTIES UNITY_BUILD ON)
   if(NOT PROJECT_IS_TOP_LEVEL)
     # A consumer's warnings (-Wconversion, ...) are about its code, not our headers: -isystem.
     # (Imported targets of the installed package are SYSTEM already.)
