@@ -78,8 +78,6 @@ struct StepOptions {
 // No inequality rows (limits, ropes) and no shapes (contacts): what the direct solver steps.
 bool equality_only(const Mechanism& mechanism);
 
-// Position errors over all constraint rows, at the current pose: equality rows |c|, inequality
-// rows max(0, -c) (only violation counts).
 // The talk's projection: with the step's own factor (J_0) only, never refactoring (clears
 // post_stabilize_refactor_on_stall and ContactOptions::refactor_projection).
 void use_own_factor_projection(StepOptions* options);
@@ -87,6 +85,8 @@ void use_own_factor_projection(StepOptions* options);
 // The iterations `options` asks for, kAutoPostStabilize resolved for its solver.
 int post_stabilize_iterations(const StepOptions& options);
 
+// Position errors over all constraint rows, at the current pose: equality rows |c|, inequality
+// rows max(0, -c) (only violation counts).
 struct ConstraintError {
   double position_max = 0, position_rms = 0;  // translational rows (m)
   double angular_max = 0, angular_rms = 0;    // angular rows (rad)

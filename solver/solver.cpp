@@ -149,7 +149,7 @@ SolveResult Solver::resolve(const System& system, std::span<double> lambda, std:
       ldl_pgs_iterate(system, iterations, s.rows, *s.ldl.front(), s.factor.usable(), lambda, dv);
       break;
     }
-    case SolverKind::direct:  // exact (checked in solve)
+    case SolverKind::direct:  // exact (checked in factorize)
       break;
   }
   return result;

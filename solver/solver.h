@@ -97,8 +97,8 @@ class Solver {
   // A failed last factorization is returned again (lambda and dv are then left as pgs leaves them).
   // iterations > 0 and schedule override options()' for this call (the position level needs more
   // sweeps on inequality rows than the velocity level: papers/physics.md). ldl-pgs's block-gs
-  // schedule stops early once a block step starts from an equality residual of at most
-  // `tolerance` (0: it runs every iteration).
+  // schedule stops early once an iteration changes no entry of dv by more than `tolerance` (0:
+  // it runs every iteration).
   SolveResult resolve(const System& system, std::span<double> lambda, std::span<double> dv, int iterations = 0,
                       std::optional<HybridSchedule> schedule = std::nullopt, double tolerance = 0);
 

@@ -176,11 +176,16 @@ TEST(Solver, IterativeSolversConvergeToTheExactSolve) {
   }
 }
 
-TEST(Solver, InequalitiesMatchTheLcpByEnumeration) {
+// A mixed LCP small enough to enumerate: 7 blocks on 6 columns, every other one a bounded row.
+System lcp_system(uint32_t seed) {
   const std::vector<int> sizes = {3, 1, 5, 1, 3, 1, 4};
   const std::vector<bool> bounded = {false, true, false, true, false, true, false};
+  return random_system(6, sizes, bounded, seed, 1e-3);
+}
+
+TEST(Solver, InequalitiesMatchTheLcpByEnumeration) {
   for (uint32_t seed = 1; seed <= 5; ++seed) {
-    const System s = random_system(6, sizes, bounded, seed, 1e-3);
+    const System s = lcp_system(seed);
     const Eigen::VectorXd expected = lcp_by_enumeration(s);
     for (SolverKind kind : {SolverKind::pgs, SolverKind::block_gs, SolverKind::ldl_pgs}) {
       const Outcome r = run(s, kind, 4000);
@@ -194,11 +199,9 @@ TEST(Solver, InequalitiesMatchTheLcpByEnumeration) {
 // Bounded rows in the LDL block (RowBlock::factored: contacts in the factor), exactly and with
 // the proximal regularization, which must not move the solution: the same LCP.
 TEST(Solver, FactoredInequalityRowsMatchTheLcpByEnumeration) {
-  const std::vector<int> sizes = {3, 1, 5, 1, 3, 1, 4};
-  const std::vector<bool> bounded = {false, true, false, true, false, true, false};
   for (double regularization : {0.0, 1e-3})
     for (uint32_t seed = 1; seed <= 5; ++seed) {
-      System s = random_system(6, sizes, bounded, seed, 1e-3);
+      System s = lcp_system(seed);
       for (RowBlock& b : s.blocks)
         if (!b.equality) {
           b.factored = true;
@@ -218,10 +221,8 @@ TEST(Solver, FactoredInequalityRowsMatchTheLcpByEnumeration) {
 // block-gs told to stop once dV stops changing (resolve's tolerance) ends at the LCP's solution,
 // having stopped before its iterations reach their fixed point.
 TEST(Solver, BlockGsStopsOnceTheCorrectionStopsChanging) {
-  const std::vector<int> sizes = {3, 1, 5, 1, 3, 1, 4};
-  const std::vector<bool> bounded = {false, true, false, true, false, true, false};
   for (uint32_t seed = 1; seed <= 5; ++seed) {
-    const System s = random_system(6, sizes, bounded, seed, 1e-3);
+    const System s = lcp_system(seed);
     const Eigen::VectorXd expected = lcp_by_enumeration(s);
     Solver solver(s, {.kind = SolverKind::ldl_pgs, .iterations = 1});
     std::vector<double> lambda(s.num_rows, 0.0), dv(6 * s.num_columns, 0.0);
