@@ -40,6 +40,7 @@ struct StepArgs {
   std::string scene, solver = "ldl-pgs", ordering = "best", trace, contacts_file, html_file;
   std::string friction_cone = "disk", contact_schedule = to_string(ContactOptions{}.schedule);
   int factor_contacts_after = ContactOptions{}.factor_after;
+  int position_schur_after = ContactOptions{}.position_schur_after;
   double factor_contacts_mass_ratio = ContactOptions{}.factor_mass_ratio;
   std::string schedule = to_string(SolverOptions{}.schedule);
   int iterations = 10, steps = 200, post_stabilize = StepOptions{}.post_stabilize;
@@ -88,6 +89,7 @@ StepOptions step_options(const StepArgs& a) {
   o.contacts.friction_pyramid = a.friction_cone == "pyramid";
   o.contacts.factor_after = a.factor_contacts_after;
   o.contacts.factor_mass_ratio = a.factor_contacts_mass_ratio;
+  o.contacts.position_schur_after = a.position_schur_after;
   o.contacts.schedule = schedule_option("--contact-schedule", a.contact_schedule);
   o.diagnostics = true;
   return o;
@@ -430,7 +432,7 @@ void add_step_options(CLI::App* cmd, StepArgs* a) {
   cmd->add_option("--compliance", a->compliance, "eps of the compliance eps diag(H)")->capture_default_str();
   cmd->add_option("--baumgarte", a->baumgarte, "Fraction of the position error corrected per step")->capture_default_str();
   cmd->add_option("--schedule", a->schedule,
-                  "ldl-pgs with inequality rows, on steps without contacts: talk, inequality-pgs or block-gs")
+                  "ldl-pgs with inequality rows, on steps without contacts: talk, inequality-pgs, block-gs or schur")
       ->capture_default_str();
   cmd->add_option("--post-stabilize", a->post_stabilize,
                   "At most this many position projection iterations per step on the step's own factor (0: off; "
@@ -451,7 +453,7 @@ void add_step_options(CLI::App* cmd, StepArgs* a) {
   cmd->add_option("--friction-cone", a->friction_cone, "Friction bound of contacts: disk (|lambda_t| <= mu lambda_n) or pyramid (per row)")
       ->capture_default_str();
   cmd->add_option("--contact-schedule", a->contact_schedule,
-                  "ldl-pgs on steps with contacts, at the velocity and position levels: talk, inequality-pgs or block-gs")
+                  "ldl-pgs on steps with contacts, at the velocity and position levels: talk, inequality-pgs, block-gs or schur")
       ->capture_default_str();
   cmd->add_option("--factor-contacts-after", a->factor_contacts_after,
                   "ldl-pgs: contacts pushing this many steps in a row join the LDL^T with their normal rows (0: never, the talk's schedule)")
@@ -461,6 +463,11 @@ void add_step_options(CLI::App* cmd, StepArgs* a) {
                   "ldl-pgs: ... only those of a body touching a body this many times heavier (0: every one)")
       ->capture_default_str()
       ->check(finite_in(0, 1e12));
+  cmd->add_option("--position-schur-after", a->position_schur_after,
+                  "block-gs on steps with contacts: the post-stabilization's contact rows' Schur complement takes over "
+                  "from block iterations that have not converged after this many, with at most 100 contact points (0: never)")
+      ->capture_default_str()
+      ->check(integer_in(0, 1000000));
   add_json_flag(cmd, &a->json);
   add_shatter_options(cmd, &a->shatter);
 }

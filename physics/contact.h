@@ -52,6 +52,12 @@ struct ContactOptions {
   // ... and the post-stabilization's, with at most this many iterations (LDL^T solves), stopping
   // once the correction no longer changes, on a step with contacts.
   int position_iterations = 100;
+  // With the block-gs schedule: where those have not converged after position_schur_after
+  // iterations, on a step with at most position_iterations contact points, the contact rows'
+  // Schur complement takes over (HybridSchedule::schur: a solve per row, then PGS with each row's
+  // effective mass through the joints). Block Gauss-Seidel converges slowly on contacts pressing
+  // on jointed bodies (papers/physics.md, "Vehicles on the ground"). 0: never.
+  int position_schur_after = 10;
   // On a mechanism with shapes the post-stabilization refactors at each corrected pose (Newton,
   // StepOptions::post_stabilize_refactor): with J_0 the projection of joints and contacts on the
   // same bodies converges slowly or not at all (papers/physics.md, "The heavy ball on a chain").

@@ -188,6 +188,7 @@ class Simulation {
   bool post_stabilize(StepReport* report);  // false: a factorization failed
   void apply_correction(double scale);       // the saved pose moved by scale W J^T dmu
   double shorten_correction(double previous, bool with_jacobian);  // backtracking; the error reached
+  double continue_correction(Solver& solver, double previous, bool refactored, bool with_jacobian);  // more sweeps
   void undo_correction(StepReport* report);  // back to the saved pose, counted as rejected
   bool solve_correction(Solver& solver);     // dmu and dv_ for the current rhs; false: no factor
   void save_pose();

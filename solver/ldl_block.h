@@ -33,6 +33,12 @@ class LdlBlock {
   // dV = W J^T lambda (no warm start).
   void exact_solve(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv);
   const Symbolic& symbolic() const { return *symbolic_; }
+  // The system blocks in the factor, in its row order, and x <- M^-1 x over those rows (the
+  // Schur complement's solves: schur.h).
+  std::span<const int> blocks() const { return h_.system_blocks(); }
+  void solve(std::span<double> x, int nrhs = 1) { numeric_->solve(x, nrhs); }
+  // Whether factored inequality rows are in the block (held at their bounds by block_step).
+  bool bounded() const { return !bounded_.empty(); }
   // At most this many bounded rows held at their bounds in one block step (beyond them, the
   // rest are projected): each costs one more solve.
   static constexpr int kMaxHeldRows = 16;
@@ -68,15 +74,19 @@ class LdlBlock {
 
 // ldl_pgs.cpp: ldl-pgs's iterations on a system with inequality rows, after the factorization
 // (factored: whether it succeeded; if not, only the PGS sweeps run and lambda keeps their impulses).
+// Returns false if a tolerance was given and the iterations stopped at their count instead.
 // The block-gs schedule stops early once an iteration changes no entry of dV by more than
-// `tolerance` (0: never), comparing against `dv_before` (scratch, the size of dV).
+// `tolerance` (0: never), comparing against `dv_before` (scratch, the size of dV); the schur
+// schedule once a sweep changes no row's residual by more than it (schur.h, its workspace).
+class SchurComplement;
 struct LdlPgsIterations {
   int count;
   HybridSchedule schedule;
   double tolerance;
   std::span<double> dv_before;
+  SchurComplement* schur;
 };
-void ldl_pgs_iterate(const System& system, const LdlPgsIterations& iterations, const RowCache& rows, LdlBlock& ldl,
+bool ldl_pgs_iterate(const System& system, const LdlPgsIterations& iterations, const RowCache& rows, LdlBlock& ldl,
                      bool factored, std::span<double> lambda, std::span<double> dv);
 
 }  // namespace ldlpgs

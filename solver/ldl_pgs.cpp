@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "ldlpgs/ordering/ordering.h"
+#include "ldlpgs/solver/schur.h"
 
 namespace ldlpgs {
 
@@ -171,21 +172,25 @@ double largest_change(std::span<const double> before, std::span<const double> af
 
 }  // namespace
 
-void ldl_pgs_iterate(const System& system, const LdlPgsIterations& iterations, const RowCache& rows, LdlBlock& ldl,
+bool ldl_pgs_iterate(const System& system, const LdlPgsIterations& iterations, const RowCache& rows, LdlBlock& ldl,
                      bool factored, std::span<double> lambda, std::span<double> dv) {
-  const bool block_gs = iterations.schedule == HybridSchedule::block_gs;
+  if (iterations.schedule == HybridSchedule::schur && factored && !ldl.bounded()) {
+    return iterations.schur->solve(system, rows, ldl, iterations.count, iterations.tolerance, lambda, dv);
+  }
+  const bool block_gs = iterations.schedule == HybridSchedule::block_gs || iterations.schedule == HybridSchedule::schur;
   const int sweeps = block_gs ? 0 : iterations.count - 1;
   const bool inequality_only = iterations.schedule == HybridSchedule::inequality_pgs;
   for (int it = 0; it < sweeps; ++it) pgs_sweep(system, rows, lambda, dv, inequality_only);
-  if (!factored) return;  // lambda keeps the PGS impulses; the caller reports the status
+  if (!factored) return true;  // lambda keeps the PGS impulses; the caller reports the status
   const int block_sweeps = block_gs ? iterations.count : 1;
   const bool stop_early = block_gs && iterations.tolerance > 0;
   for (int it = 0; it < block_sweeps; ++it) {
     if (stop_early) std::copy(dv.begin(), dv.end(), iterations.dv_before.begin());
     ldl.block_step(system, rows, lambda, dv);
     pgs_sweep(system, rows, lambda, dv, /*inequality_only=*/true);
-    if (stop_early && largest_change(iterations.dv_before, dv) <= iterations.tolerance) break;
+    if (stop_early && largest_change(iterations.dv_before, dv) <= iterations.tolerance) return true;
   }
+  return !stop_early;
 }
 
 }  // namespace ldlpgs

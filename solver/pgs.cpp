@@ -16,12 +16,6 @@ void pgs_sweep(const System& system, const RowCache& cache, std::span<double> la
   }
 }
 
-namespace {
-
-// argmin over |x| <= r of (1/2) x^T K x + b^T x for a symmetric positive definite 2x2 K: the
-// unconstrained -K^-1 b if it lies in the disk, else x(nu) = -(K + nu I)^-1 b with |x(nu)| = r,
-// nu > 0 (the trust-region subproblem), by Newton's method on 1/|x(nu)| - 1/r in K's eigenbasis
-// (Moré and Sorensen, 1983: that function is nearly linear in nu, so a few iterations do).
 void disk_minimizer(double k11, double k12, double k22, const double b[2], double r, double x[2]) {
   const double inverse_det = 1 / (k11 * k22 - k12 * k12);  // (K's alone: off the chain through b)
   x[0] = -(k22 * b[0] - k12 * b[1]) * inverse_det;
@@ -56,7 +50,6 @@ void disk_minimizer(double k11, double k12, double k22, const double b[2], doubl
   x[1] = (s * y1 + c * y2) * scale;
 }
 
-}  // namespace
 
 void pgs_friction_disk(const System& system, const RowCache& cache, int k, std::span<double> lambda,
                        std::span<double> dv) {

@@ -81,6 +81,12 @@ inline void pgs_row(const System& system, const RowCache& cache, int k, int r, s
   add_row_impulse(system, cache, k, r, updated - old, dv);
 }
 
+// argmin over |x| <= r of (1/2) x^T K x + b^T x for a symmetric positive definite 2x2 K: the
+// unconstrained -K^-1 b if it lies in the disk, else x(nu) = -(K + nu I)^-1 b with |x(nu)| = r,
+// nu > 0 (the trust-region subproblem), by Newton's method on 1/|x(nu)| - 1/r in K's eigenbasis
+// (Moré and Sorensen, 1983: that function is nearly linear in nu, so a few iterations do).
+void disk_minimizer(double k11, double k12, double k22, const double b[2], double r, double x[2]);
+
 // The rows of a friction block with the disk bound, |lambda_block| <= mu lambda_n, solved
 // together on the disk (pgs.cpp: the block's exact step, maximal dissipation on the rim).
 void pgs_friction_disk(const System& system, const RowCache& cache, int k, std::span<double> lambda,

@@ -11,13 +11,14 @@
 
 #include "ldlpgs/solver/block_gs.h"
 #include "ldlpgs/solver/ldl_block.h"
+#include "ldlpgs/solver/schur.h"
 #include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 
 namespace {
 constexpr std::array<const char*, 4> kNames = {"pgs", "block-gs", "ldl-pgs", "direct"};
-constexpr std::array<const char*, 3> kSchedules = {"talk", "inequality-pgs", "block-gs"};
+constexpr std::array<const char*, 4> kSchedules = {"talk", "inequality-pgs", "block-gs", "schur"};
 
 // An enum spelled by its index in `names`; false if `name` is none of them.
 template <class Enum, size_t N>
@@ -55,6 +56,7 @@ class SolverState {
   FactorInfo factor;  // the last solve's factorization (ldl-pgs, direct)
   SymbolicStats stats;
   std::vector<double> dv_before;  // dV before a block Gauss-Seidel iteration (size 6 num_columns)
+  SchurComplement schur;          // the schur schedule's workspace
 
   // The LDL block serving `system`'s factored blocks, analysed now if no cached one does.
   LdlBlock& ldl_for(const System& system) {
@@ -145,8 +147,8 @@ SolveResult Solver::resolve(const System& system, std::span<double> lambda, std:
       break;
     case SolverKind::ldl_pgs: {
       result.factor = s.factor;
-      const LdlPgsIterations iterations{n, schedule.value_or(options_.schedule), tolerance, s.dv_before};
-      ldl_pgs_iterate(system, iterations, s.rows, *s.ldl.front(), s.factor.usable(), lambda, dv);
+      const LdlPgsIterations iterations{n, schedule.value_or(options_.schedule), tolerance, s.dv_before, &s.schur};
+      result.converged = ldl_pgs_iterate(system, iterations, s.rows, *s.ldl.front(), s.factor.usable(), lambda, dv);
       break;
     }
     case SolverKind::direct:  // exact (checked in factorize)

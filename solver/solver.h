@@ -47,7 +47,11 @@ std::span<const char* const> solver_names();
 //   inequality-pgs  N-1 PGS sweeps over the inequality rows only, then one block GS sweep: the
 //                   equality rows' sweeps are wasted work when the block solves them exactly
 //   block-gs        N block GS sweeps, each one LDL^T solve reusing the factor
-enum class HybridSchedule { talk, inequality_pgs, block_gs };
+//   schur           the inequality rows' LCP with the equality rows eliminated by the LDL^T
+//                   (their dense Schur complement, one solve per inequality row), then N PGS
+//                   sweeps on it: each row sees its effective mass through the joints (block-gs
+//                   where the factor holds inequality rows)
+enum class HybridSchedule { talk, inequality_pgs, block_gs, schur };
 const char* to_string(HybridSchedule schedule);
 bool hybrid_schedule_from_string(std::string_view name, HybridSchedule* schedule);  // false: unknown
 std::span<const char* const> hybrid_schedule_names();
@@ -63,6 +67,9 @@ struct SolverOptions {
 
 struct SolveResult {
   FactorInfo factor;     // ldl-pgs, direct: the LDL^T's status (ok when not factored)
+  // ldl-pgs's block-gs and schur schedules given a tolerance: whether they stopped on it, not at
+  // their iteration cap
+  bool converged = true;
   bool ok() const { return factor.usable(); }
 };
 

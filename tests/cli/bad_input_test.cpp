@@ -101,6 +101,7 @@ TEST(LdlpgsBadInput, StepOwnFactorWithRefactor) {
 
 TEST(LdlpgsBadInput, FactorContactsAfterNegative) {
   expect_input_error("step box-stack-1000 --factor-contacts-after -1", {"--factor-contacts-after"});
+  expect_input_error("step box-stack-1000 --position-schur-after -1", {"--position-schur-after"});
 }
 
 // nan, inf and 1e308 had run one step each and said "failed: energy" with exit 0.

@@ -117,8 +117,9 @@ struct Outcome {
   SolveResult result;
 };
 
-Outcome run(const System& s, SolverKind kind, int iterations, std::vector<double> warm = {}) {
-  Solver solver(s, {.kind = kind, .iterations = iterations});
+Outcome run(const System& s, SolverKind kind, int iterations, std::vector<double> warm = {},
+            HybridSchedule schedule = HybridSchedule::talk) {
+  Solver solver(s, {.kind = kind, .iterations = iterations, .schedule = schedule});
   Outcome r{warm.empty() ? std::vector<double>(s.num_rows, 0.0) : warm, std::vector<double>(6 * s.num_columns, 0.0), {}};
   r.result = solver.solve(s, r.lambda, r.dv);
   return r;
@@ -196,6 +197,23 @@ TEST(Solver, InequalitiesMatchTheLcpByEnumeration) {
   }
 }
 
+// The schur schedule: the equality rows eliminated, PGS on the inequality rows' dense Schur
+// complement, which reaches the same LCP's solution in far fewer sweeps than block-gs's iterations.
+TEST(Solver, SchurScheduleMatchesTheLcpByEnumeration) {
+  for (uint32_t seed = 1; seed <= 5; ++seed) {
+    const System s = lcp_system(seed);
+    const Eigen::VectorXd expected = lcp_by_enumeration(s);
+    const Outcome r = run(s, SolverKind::ldl_pgs, 400, {}, HybridSchedule::schur);
+    ASSERT_TRUE(r.result.ok());
+    EXPECT_LT(max_diff(r.lambda, expected), 1e-9) << "seed " << seed;
+    for (int i = 0; i < s.num_rows; ++i) EXPECT_GE(r.lambda[i], s.lower[i]);
+    // dV = W J^T lambda
+    const Dense d = dense(s);
+    const Eigen::VectorXd dv = d.w * d.j.transpose() * Eigen::Map<const Eigen::VectorXd>(r.lambda.data(), s.num_rows);
+    EXPECT_LT(max_diff(r.dv, dv), 1e-12) << "seed " << seed;
+  }
+}
+
 // Bounded rows in the LDL block (RowBlock::factored: contacts in the factor), exactly and with
 // the proximal regularization, which must not move the solution: the same LCP.
 TEST(Solver, FactoredInequalityRowsMatchTheLcpByEnumeration) {
@@ -208,7 +226,7 @@ TEST(Solver, FactoredInequalityRowsMatchTheLcpByEnumeration) {
           b.regularization = regularization;
         }
       const Eigen::VectorXd expected = lcp_by_enumeration(s);
-      for (HybridSchedule schedule : {HybridSchedule::talk, HybridSchedule::block_gs}) {
+      for (HybridSchedule schedule : {HybridSchedule::talk, HybridSchedule::block_gs, HybridSchedule::schur}) {
         Solver solver(s, {.kind = SolverKind::ldl_pgs, .iterations = 400, .schedule = schedule});
         std::vector<double> lambda(s.num_rows, 0.0), dv(6 * s.num_columns, 0.0);
         ASSERT_TRUE(solver.solve(s, lambda, dv).ok());
@@ -295,12 +313,15 @@ TEST(Solver, FrictionOnTheDiskIsTheConstrainedMinimizer) {
       const double at = std::atan2(expected.y(), expected.x());
       for (int i = 0; i < 3600; ++i) ASSERT_GE(energy(2 * M_PI * i / 3600), energy(at) - 1e-15);  // the rim's minimum
     }
-    for (SolverKind kind : {SolverKind::pgs, SolverKind::block_gs, SolverKind::ldl_pgs}) {
-      const Outcome o = run(s, kind, 50);
-      EXPECT_NEAR(o.lambda[0], 2, 1e-15);
-      EXPECT_LT(std::hypot(o.lambda[1] - expected(0), o.lambda[2] - expected(1)), 1e-9 * std::max(1.0, radius))
-          << to_string(kind) << " seed " << seed << (expected.norm() < radius * (1 - 1e-9) ? " (inside)" : " (on the rim)");
-    }
+    for (SolverKind kind : {SolverKind::pgs, SolverKind::block_gs, SolverKind::ldl_pgs})
+      for (HybridSchedule schedule : {HybridSchedule::talk, HybridSchedule::schur}) {
+        if (kind != SolverKind::ldl_pgs && schedule != HybridSchedule::talk) continue;
+        const Outcome o = run(s, kind, 50, {}, schedule);
+        EXPECT_NEAR(o.lambda[0], 2, 1e-15);
+        EXPECT_LT(std::hypot(o.lambda[1] - expected(0), o.lambda[2] - expected(1)), 1e-9 * std::max(1.0, radius))
+            << to_string(kind) << " " << to_string(schedule) << " seed " << seed
+            << (expected.norm() < radius * (1 - 1e-9) ? " (inside)" : " (on the rim)");
+      }
   }
 }
 
