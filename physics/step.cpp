@@ -354,49 +354,53 @@ bool Simulation::post_stabilize(StepReport* report) {
     SolveResult r;
     if (refactor || (projector_ && it == 0)) r = solver.factorize(system_);
     if (!r.ok()) return false;
-    if (!solve_correction(solver)) return false;
+    if (!solve_correction(solver, error)) return false;
     apply_correction(1);
     ++report->post_stabilize_iterations;
   }
   return true;
 }
 
-// dmu for the current position error (rhs), and dv_ = W J^T dmu. Contacts take their own
-// schedule, block Gauss-Seidel run until the correction stops changing: the single block
-// iteration of inequality-pgs leaves joints and contacts coupled, which turns Newton's quadratic
-// convergence into a linear one (papers/physics.md, "The heavy ball on a chain"). Where it has
-// not converged after ContactOptions::position_schur_after iterations, the contact rows' Schur
-// complement takes over from its impulses, if they are few enough that its one solve per row
-// costs no more than the iterations' cap.
-bool Simulation::solve_correction(Solver& solver) {
+// dmu for the current position error (rhs, largest entry `error`), and dv_ = W J^T dmu.
+bool Simulation::solve_correction(Solver& solver, double error) {
   if (contacts_.empty())
     return solver.resolve(system_, mu_, dv_, options_.post_stabilize_sweeps, HybridSchedule::inequality_pgs).ok();
+  return solve_contact_correction(solver, error, options_.contacts.position_iterations);
+}
+
+// On a contact step, from mu_ on, at most `iterations` iterations. Contacts take their own
+// schedule, block Gauss-Seidel run until the correction stops changing: the single block
+// iteration of inequality-pgs leaves joints and contacts coupled, which turns Newton's quadratic
+// convergence into a linear one (papers/physics.md, "The heavy ball on a chain"). "Stops
+// changing": by less than kInexact times the error it corrects (an inexact Newton step; a fixed
+// threshold let slow iterations stop with the error just above the tolerance). Where block
+// Gauss-Seidel has not converged after ContactOptions::position_schur_after iterations, the
+// contact rows' Schur complement takes over from its impulses, if they are few enough that its
+// solve per row costs no more than the iterations' cap (papers/physics.md, "Vehicles on the ground").
+bool Simulation::solve_contact_correction(Solver& solver, double error, int iterations) {
+  constexpr double kInexact = 1e-3;
   const ContactOptions& o = options_.contacts;
-  const double converged = 0.1 * options_.post_stabilize_tolerance;
+  const double converged = kInexact * error;
   const bool then_schur = o.schedule == HybridSchedule::block_gs && o.position_schur_after > 0 &&
                           static_cast<int>(contacts_.size()) <= o.position_iterations;
-  const int first = then_schur ? std::min(o.position_schur_after, o.position_iterations) : o.position_iterations;
+  const int first = then_schur ? std::min(o.position_schur_after, iterations) : iterations;
   SolveResult r = solver.resolve(system_, mu_, dv_, first, o.schedule, converged);
-  if (then_schur && r.ok() && !r.converged)
-    r = solver.resolve(system_, mu_, dv_, o.position_iterations, HybridSchedule::schur, converged);
+  if (then_schur && r.ok() && !r.converged) r = solver.resolve(system_, mu_, dv_, iterations, HybridSchedule::schur, converged);
   return r.ok();
 }
 
-// A contact step's correction that raised the error even shortened: its block Gauss-Seidel stops
-// at ContactOptions::position_iterations, and contacts pressing on jointed bodies converge slowly
-// there (a contact row's sweep moves one body that the joints then pull back). The iteration is
-// continued from its impulses with 2, 4, ... times as many sweeps, kMoreAccurate times: a Newton
-// step made more exact only where the cheap one failed (papers/physics.md, "Vehicles on the ground").
-// Returns the error at the last pose tried.
+// A contact step's correction that raised the error even shortened: its iterations stopped at
+// their cap unconverged (contacts pressing on jointed bodies converge slowly: a contact row's
+// sweep moves one body that the joints then pull back). They are continued from their impulses
+// with 2, 4, ... times as many, kMoreAccurate times: a Newton step made more exact only where the
+// cheap one failed. Returns the error at the last pose tried.
 double Simulation::continue_correction(Solver& solver, double previous, bool refactored, bool with_jacobian) {
   constexpr int kMoreAccurate = 4;
-  const double converged = 0.1 * options_.post_stabilize_tolerance;
   double error = kUnbounded;
   for (int k = 1; k <= kMoreAccurate && !(error < previous); ++k) {
     restore_pose();
     position_rhs(refactored);  // the saved pose's rows, those the factor was computed from
-    if (!solver.resolve(system_, mu_, dv_, options_.contacts.position_iterations << k, options_.contacts.schedule, converged).ok())
-      break;
+    if (!solve_contact_correction(solver, previous, options_.contacts.position_iterations << k)) break;
     apply_correction(1);
     error = position_rhs(with_jacobian);
     if (!(error < previous)) error = shorten_correction(previous, with_jacobian);

@@ -190,7 +190,8 @@ class Simulation {
   double shorten_correction(double previous, bool with_jacobian);  // backtracking; the error reached
   double continue_correction(Solver& solver, double previous, bool refactored, bool with_jacobian);  // more sweeps
   void undo_correction(StepReport* report);  // back to the saved pose, counted as rejected
-  bool solve_correction(Solver& solver);     // dmu and dv_ for the current rhs; false: no factor
+  bool solve_correction(Solver& solver, double error);  // dmu and dv_ for the current rhs; false: no factor
+  bool solve_contact_correction(Solver& solver, double error, int iterations);  // ... on a contact step
   void save_pose();
   void restore_pose();
   void make_projector();                    // projector_, when the solver has no factor to reuse
