@@ -45,6 +45,7 @@ struct StepArgs {
   std::string schedule = to_string(SolverOptions{}.schedule);
   int iterations = 10, steps = 200, post_stabilize = StepOptions{}.post_stabilize;
   bool post_stabilize_refactor = false, post_stabilize_own_factor = false, curvature_target = false;
+  bool implicit_gyroscopic = false;
   double timestep = 0, compliance = StepOptions{}.compliance, baumgarte = StepOptions{}.baumgarte;
   bool json = false;
   ShatterArgs shatter;
@@ -90,6 +91,7 @@ StepOptions step_options(const StepArgs& a) {
   o.contacts.factor_after = a.factor_contacts_after;
   o.contacts.factor_mass_ratio = a.factor_contacts_mass_ratio;
   o.contacts.position_schur_after = a.position_schur_after;
+  o.contacts.implicit_gyroscopic = a.implicit_gyroscopic;
   o.contacts.schedule = schedule_option("--contact-schedule", a.contact_schedule);
   o.diagnostics = true;
   return o;
@@ -468,6 +470,9 @@ void add_step_options(CLI::App* cmd, StepArgs* a) {
                   "from block iterations that have not converged after this many, with at most 100 contact points (0: never)")
       ->capture_default_str()
       ->check(integer_in(0, 1000000));
+  cmd->add_flag("--implicit-gyroscopic", a->implicit_gyroscopic,
+                "On a mechanism with shapes, take the gyroscopic term implicitly instead of keeping each body's angular "
+                "momentum through its rotation");
   add_json_flag(cmd, &a->json);
   add_shatter_options(cmd, &a->shatter);
 }

@@ -123,6 +123,26 @@ void write_jacobian(const ConstraintRows& rows, int k, System* s) {
   }
 }
 
+// ContactOptions::implicit_gyroscopic applies: it is on and the mechanism has shapes.
+bool implicit_gyroscopic(const Mechanism& m, const StepOptions& options) {
+  return options.contacts.implicit_gyroscopic && has_shapes(m);
+}
+
+// w' with I (w' - w) + dt w' x I w' = 0 in the body frame (the gyroscopic term implicit), by one
+// Newton step from w, whose Jacobian is I + dt ([w]x I - [I w]x).
+Eigen::Vector3d gyroscopic_velocity(const RigidBody& b, double dt) {
+  const Eigen::Vector3d w = b.orientation.conjugate() * b.angular_velocity;
+  const Eigen::Vector3d iw = b.inertia.cwiseProduct(w);
+  const auto cross_matrix = [](const Eigen::Vector3d& a) {
+    Eigen::Matrix3d m;
+    m << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+    return m;
+  };
+  const Eigen::Matrix3d jacobian = Eigen::Matrix3d(b.inertia.asDiagonal()) +
+                                   dt * (cross_matrix(w) * b.inertia.asDiagonal() - cross_matrix(iw));
+  return b.orientation * (w - jacobian.partialPivLu().solve(dt * w.cross(iw)));
+}
+
 // The velocity step's values, each constraint evaluated once: W, J, R = target - J (V0 + W F dt)
 // and the compliance. v0 (size 6 columns) receives V0 + W F dt; load (size 6 bodies, or empty)
 // holds the forces and torques applied for this step on top of gravity and the constant loads.
@@ -133,6 +153,7 @@ void write_velocity_system(const Mechanism& m, const StepOptions& options, const
                            std::span<const double> load, std::span<const double> predicted,
                            std::span<const ConstraintRows> known, std::span<double> v0, System* s) {
   const double dt = m.timestep;
+  const bool gyroscopic = implicit_gyroscopic(m, options);
   write_inverse_mass(m, column, s);
   for (size_t b = 0; b < m.bodies.size(); ++b) {
     const int c = column[b];
@@ -144,7 +165,7 @@ void write_velocity_system(const Mechanism& m, const StepOptions& options, const
       torque += Eigen::Vector3d(load[6 * b + 3], load[6 * b + 4], load[6 * b + 5]);
     }
     const Eigen::Vector3d v = body.linear_velocity + (m.gravity + force / body.mass) * dt;
-    Eigen::Vector3d w = body.angular_velocity;
+    Eigen::Vector3d w = gyroscopic ? gyroscopic_velocity(body, dt) : body.angular_velocity;
     if (!torque.isZero(0)) w += body.inverse_inertia_world() * torque * dt;
     for (int i = 0; i < 3; ++i) {
       v0[6 * c + i] = v[i];
@@ -650,6 +671,7 @@ StepReport Simulation::step() {
   report.solve_us = us(solve_start, solve_end);
   keep_contact_impulses();
   if (options_.diagnostics) report.velocity_residual = velocity_residual(system_, lambda_, dv_);
+  const bool gyroscopic = implicit_gyroscopic(m, options_);
   int c = 0;
   for (RigidBody& b : m.bodies) {
     if (b.is_static) continue;
@@ -660,10 +682,15 @@ StepReport Simulation::step() {
     b.linear_velocity = Eigen::Vector3d(v0[0] + dv[0], v0[1] + dv[1], v0[2] + dv[2]);
     b.angular_velocity = Eigen::Vector3d(v0[3] + dv[3], v0[4] + dv[4], v0[5] + dv[5]);
     b.position += b.linear_velocity * dt;
-    // q <- exp(w dt) q (world-frame w), renormalized. The body's angular momentum I w is kept
-    // through the rotation (w <- I_new^-1 I_old w): without it a free asymmetric body's angular
-    // momentum would drift, since semi-implicit Euler drops the gyroscopic term w x I w.
-    // (I_world w = R (I .* (R^T w)) by quaternion rotations: no rotation matrix is built)
+    // q <- exp(w dt) q (world-frame w), renormalized. Unless the free motion took the gyroscopic
+    // term implicitly, the body's angular momentum I w is kept through the rotation
+    // (w <- I_new^-1 I_old w): without it a free asymmetric body's angular momentum would drift,
+    // since semi-implicit Euler drops the gyroscopic term w x I w. (I_world w = R (I .* (R^T w))
+    // by quaternion rotations: no rotation matrix is built)
+    if (gyroscopic) {
+      rotate(b, b.angular_velocity * dt);
+      continue;
+    }
     const Eigen::Vector3d momentum = b.orientation * b.inertia.cwiseProduct(b.orientation.conjugate() * b.angular_velocity);
     rotate(b, b.angular_velocity * dt);
     b.angular_velocity = b.orientation * (b.orientation.conjugate() * momentum).cwiseQuotient(b.inertia);

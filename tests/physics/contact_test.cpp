@@ -338,6 +338,38 @@ TEST(ContactStep, HeavyBallOnAChainEndsOnTheGroundWithItsJointsHeld) {
   EXPECT_NEAR(ball.position.y(), 0.25, slop + 0.001);  // on the ground (rolling: no rolling friction)
 }
 
+// The 1000:1 ball on a 6-link chain: a link spins up about its own axis, which a ball joint leaves
+// free, and with the rotation keeping each body's angular momentum (the default) the chain gains
+// energy and comes apart near step 1000. The implicit gyroscopic term
+// (ContactOptions::implicit_gyroscopic) keeps it whole, its energy not above the start's, over
+// 3000 steps.
+TEST(ContactStep, ShortHeavyBallChainStaysWholeWithTheImplicitGyroscopicTerm) {
+  for (bool implicit : {true, false}) {
+    SCOPED_TRACE(implicit ? "implicit" : "angular momentum kept");
+    StepOptions o;
+    o.diagnostics = true;
+    o.contacts.implicit_gyroscopic = implicit;
+    Simulation sim(scene("ball-chain-6-1000"), o);
+    const double size = mechanism_size(sim.mechanism());
+    double start = 0, highest = 0;
+    std::string failure;
+    for (int s = 0; s < 3000 && failure.empty(); ++s) {
+      const StepReport r = sim.step();
+      failure = run_failure(r, size);
+      if (s == 0) start = r.energy;
+      highest = std::max(highest, r.energy);
+    }
+    std::printf("ball-chain-6-1000, %s: energy %.6g J at the start, at most %.6g; %s\n", implicit ? "implicit" : "momentum",
+                start, highest, failure.empty() ? "whole" : failure.c_str());
+    if (implicit) {
+      EXPECT_EQ(failure, "");
+      EXPECT_LE(highest, start * (1 + 1e-6));
+    } else {
+      EXPECT_NE(failure, "");  // the baseline, shown failing
+    }
+  }
+}
+
 #ifdef LDLPGS_HAVE_MUJOCO
 // MuJoCo's humanoid models fall onto their floor and stay on it: no contact deeper than the slop
 // plus 1 mm at the end of any step, every body's centre above the floor, no run failure.
