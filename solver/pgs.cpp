@@ -89,7 +89,7 @@ void pgs_friction_disk(const System& system, const RowCache& cache, int k, std::
   }
   const double eps0 = system.compliance[i], eps1 = system.compliance[i + 1];
   const double k11 = cache.diag[i] * (1 + eps0), k22 = cache.diag[i + 1] * (1 + eps1);
-  if (!(k11 > 0 && k22 > 0 && k11 * k22 - k12 * k12 > 1e-14 * k11 * k22)) {  // (a degenerate block: row by row)
+  if (!disk_solvable(k11, k12, k22)) {  // (a degenerate block: row by row)
     pgs_row(system, cache, k, 0, lambda, dv);
     pgs_row(system, cache, k, 1, lambda, dv);
     return;

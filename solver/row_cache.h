@@ -86,6 +86,10 @@ inline void pgs_row(const System& system, const RowCache& cache, int k, int r, s
 // nu > 0 (the trust-region subproblem), by Newton's method on 1/|x(nu)| - 1/r in K's eigenbasis
 // (Moré and Sorensen, 1983: that function is nearly linear in nu, so a few iterations do).
 void disk_minimizer(double k11, double k12, double k22, const double b[2], double r, double x[2]);
+// Whether K is positive definite enough for disk_minimizer (else a block is stepped row by row).
+inline bool disk_solvable(double k11, double k12, double k22) {
+  return k11 > 0 && k22 > 0 && k11 * k22 - k12 * k12 > 1e-14 * k11 * k22;
+}
 
 // The rows of a friction block with the disk bound, |lambda_block| <= mu lambda_n, solved
 // together on the disk (pgs.cpp: the block's exact step, maximal dissipation on the rim).

@@ -39,17 +39,14 @@ void SchurComplement::gather_rows(const System& system, std::span<double> lambda
   blocks_.push_back(static_cast<int>(rows_.size()));
 }
 
-// v_ <- v_ + W J_E^T M^-1 (R_E - J_E v_); e_ keeps lambda_E = M^-1 (R_E - J_E v_).
-void SchurComplement::equality_response(const System& system, const RowCache& rows, LdlBlock& ldl) {
+// e_ = lambda_E = M^-1 (R_E - J_E v_): E's exact answer to its right-hand side and v_.
+void SchurComplement::solve_equalities(const System& system, LdlBlock& ldl) {
   int at = 0;
   for (int k : ldl.blocks()) {
     const RowBlock& b = system.blocks[k];
     for (int r = 0; r < b.size; ++r, ++at) e_[at] = system.rhs[b.position + r] - row_times(system, k, r, v_);
   }
   if (at > 0) ldl.solve(e_);
-  at = 0;
-  for (int k : ldl.blocks())
-    for (int r = 0; r < system.blocks[k].size; ++r, ++at) add_row_impulse(system, rows, k, r, e_[at], v_);
 }
 
 // G = H_EI, sparse: row j of I meets only the equality rows on its two bodies. Column j's
@@ -118,10 +115,7 @@ void SchurComplement::build(const System& system, const RowCache& rows, LdlBlock
     add_row_impulse(system, rows, row.block, row.row, -1.0, v_);
     s_[c * n + c] += system.compliance[row.index] * rows.diag[row.index];
   }
-  int at = 0;
-  for (int k : ldl.blocks())
-    for (int r = 0; r < system.blocks[k].size; ++r) e_[at++] = system.rhs[system.blocks[k].position + r];
-  if (!e_.empty()) ldl.solve(e_);
+  solve_equalities(system, ldl);  // (v_ is zero again: each column's impulse was taken back)
   for (size_t j = 0; j < n; ++j) q_[j] = system.rhs[rows_[j].index] - g_times(j, e_.data());
 }
 
@@ -153,7 +147,7 @@ double SchurComplement::sweep(const System& system, const RowCache& rows, std::s
     const double k11 = s_[first * n + first], k22 = end - first == 2 ? s_[(first + 1) * n + first + 1] : 0;
     const double k12 = end - first == 2 ? s_[first * n + first + 1] : 0;
     const bool disk = b.friction_row >= 0 && !b.friction_pyramid && end - first == 2;
-    if (!disk || !(k11 > 0 && k22 > 0 && k11 * k22 - k12 * k12 > 1e-14 * k11 * k22)) {
+    if (!disk || !disk_solvable(k11, k12, k22)) {
       for (size_t c = first; c < end; ++c) row_step(c);
       continue;
     }
@@ -172,10 +166,13 @@ void SchurComplement::back_substitute(const System& system, const RowCache& rows
                                       std::span<double> lambda, std::span<double> dv) {
   std::fill(v_.begin(), v_.end(), 0.0);
   for (const Row& row : rows_) add_row_impulse(system, rows, row.block, row.row, lambda[row.index], v_);
-  equality_response(system, rows, ldl);
+  solve_equalities(system, ldl);
   int at = 0;
   for (int k : ldl.blocks())
-    for (int r = 0; r < system.blocks[k].size; ++r) lambda[system.blocks[k].position + r] = e_[at++];
+    for (int r = 0; r < system.blocks[k].size; ++r, ++at) {
+      lambda[system.blocks[k].position + r] = e_[at];
+      add_row_impulse(system, rows, k, r, e_[at], v_);
+    }
   std::copy(v_.begin(), v_.end(), dv.begin());
 }
 

@@ -33,7 +33,7 @@ class SchurComplement {
   void back_substitute(const System& system, const RowCache& rows, LdlBlock& ldl, std::span<double> lambda,
                        std::span<double> dv);
   void couple_rows(const System& system, const RowCache& rows, const LdlBlock& ldl);
-  void equality_response(const System& system, const RowCache& rows, LdlBlock& ldl);
+  void solve_equalities(const System& system, LdlBlock& ldl);
 
   struct Row {
     int block, row, index;  // block k, its row r, the System row
