@@ -9,6 +9,10 @@ namespace ldlpgs {
 
 void pgs_sweep(const System& system, const RowCache& cache, std::span<double> lambda, std::span<double> dv,
                bool inequality_only) {
+  if (!cache.lanes.groups.empty()) {
+    pgs_lanes_sweep(system, cache, lambda, dv, inequality_only);
+    return;
+  }
   for (int k = 0; k < static_cast<int>(system.blocks.size()); ++k) {
     const RowBlock& b = system.blocks[k];
     if (inequality_only && b.equality) continue;

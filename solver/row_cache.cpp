@@ -50,6 +50,7 @@ void RowCache::update(const System& system) {
       diag[i] = d;
     }
   }
+  lanes.update(system, *this);
 }
 
 }  // namespace ldlpgs

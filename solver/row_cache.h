@@ -4,6 +4,7 @@
 #include <span>
 #include <vector>
 
+#include "ldlpgs/solver/lanes.h"
 #include "ldlpgs/solver/system.h"
 
 namespace ldlpgs {
@@ -14,6 +15,7 @@ struct RowCache {
   std::vector<double> wjt;   // W J_i^T per row: 6 for column a then 6 for column b (size 12 num_rows)
   std::vector<double> diag;  // H_ii (size num_rows)
   std::vector<char> separable;  // W of the velocity block has zero coupling blocks (size num_columns)
+  ContactLanes lanes;           // the contact points, four manifolds at a time (lanes.h)
   void update(const System& system);
 };
 

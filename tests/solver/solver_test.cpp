@@ -2,6 +2,8 @@
 // H = J W J^T built densely from the same J and W, and, with inequality rows, the mixed LCP
 // solved by enumerating active sets.
 #include "ldlpgs/sparse/error.h"
+#include "ldlpgs/solver/lanes_sweep.h"
+#include "ldlpgs/solver/row_cache.h"
 #include "ldlpgs/solver/solver.h"
 
 #include <gtest/gtest.h>
@@ -323,6 +325,86 @@ TEST(Solver, FrictionOnTheDiskIsTheConstrainedMinimizer) {
             << (expected.norm() < radius * (1 - 1e-9) ? " (inside)" : " (on the rim)");
       }
   }
+}
+
+// Contact points in manifolds of 1-5 points on random pairs of 14 columns (a quarter against a
+// static body), among joint blocks, pyramid-friction points and a factored point (swept row by
+// row), with normal impulses at zero, inside and on the rim of their disks: three sweeps in lanes
+// give what pgs_block gives row by row in the order the lanes take (sweep_order), and the
+// baseline's lanes what the AVX2 ones give, bit for bit. The colouring leaves no column twice in
+// a group.
+TEST(Solver, ContactLanesSweepAsTheRowsOneByOneInTheirOrder) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const int columns = 14;
+  System s = random_system(columns, std::vector<int>{3, 5, 2}, {false, false, false}, 3);
+  for (int m = 0; m < 60; ++m) {
+    const int a = static_cast<int>(rng() % columns), b = rng() % 4 == 0 ? -1 : (a + 1 + static_cast<int>(rng() % (columns - 1))) % columns;
+    const int points = 1 + static_cast<int>(rng() % 5);
+    const bool pyramid = m % 11 == 5, factored = m % 17 == 3;
+    for (int p = 0; p < points; ++p) {
+      const int normal = s.add_block(1, a, b), friction = s.add_block(2, a, b);
+      s.set_bounds(normal, 0, kUnbounded);
+      s.blocks[normal].factored = factored;
+      s.blocks[normal].regularization = m % 3 == 0 ? 0.1 : 0;
+      s.set_friction(friction, s.blocks[normal].position, m % 7 == 0 ? 0.0 : 0.05 + 0.5 * std::abs(u(rng)), pyramid);
+      for (int blk : {normal, friction})
+        for (int x = 0; x < 12 * s.blocks[blk].size; ++x) s.cell_a(blk)[x] = u(rng);
+    }
+  }
+  for (double& r : s.rhs) r = u(rng);
+  s.compliance.assign(s.num_rows, 0.0);
+  for (double& e : s.compliance) e = rng() % 2 ? 1e-3 * std::abs(u(rng)) : 0.0;
+  RowCache rows;
+  rows.update(s);
+  ASSERT_GE(rows.lanes.groups.size(), 10u);
+  for (const ContactLanes::Group& g : rows.lanes.groups)
+    for (int side = 0; side < 2; ++side)
+      for (int l = 0; l < ContactLanes::kLanes; ++l)
+        for (int other = 0; other < ContactLanes::kLanes; ++other)
+          for (int other_side = 0; other_side < 2; ++other_side)
+            if ((l != other || side != other_side) && g.column[side][l] >= 0) {
+              ASSERT_NE(g.column[side][l], g.column[other_side][other]);
+            }
+  std::vector<int> order;
+  rows.lanes.sweep_order(s, &order);
+  std::vector<int> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (int k = 0; k < static_cast<int>(s.blocks.size()); ++k) ASSERT_EQ(sorted[k], k);  // every block once
+  std::vector<double> lambda(s.num_rows), dv(6 * s.num_columns);
+  for (double& x : lambda) x = 0.5 * std::abs(u(rng));
+  for (double& x : dv) x = u(rng);
+  project_onto_bounds(s, lambda);
+  std::vector<double> lanes_lambda = lambda, lanes_dv = dv;
+  for (int sweep = 0; sweep < 3; ++sweep) {
+    pgs_sweep(s, rows, lanes_lambda, lanes_dv);
+    for (int k : order) pgs_block(s, rows, k, lambda, dv);
+  }
+  int rim = 0, zero = 0;
+  for (const RowBlock& b : s.blocks) {
+    if (b.friction_row < 0 || b.friction_pyramid) continue;
+    const double radius = friction_radius(b, lambda), norm = std::hypot(lambda[b.position], lambda[b.position + 1]);
+    rim += radius > 0 && norm > radius * (1 - 1e-12);
+    zero += radius == 0;
+  }
+  EXPECT_GE(rim, 10);
+  EXPECT_GE(zero, 10);
+  for (int i = 0; i < s.num_rows; ++i) EXPECT_EQ(lanes_lambda[i], lambda[i]) << "row " << i;
+  for (size_t i = 0; i < dv.size(); ++i) EXPECT_EQ(lanes_dv[i], dv[i]) << "dv " << i;
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (__builtin_cpu_supports("avx2")) {
+    std::vector<double> lambda2 = lambda, dv2 = dv, lambda4 = lambda, dv4 = dv;
+    const ContactLanes& l = rows.lanes;
+    const auto data = [&](std::vector<double>& x, std::vector<double>& v) {
+      return lanes::SweepData{l.groups.data(), static_cast<int>(l.groups.size()), l.slots.data(), s.blocks.data(),
+                              s.rhs.data(), s.compliance.data(), s.lower.data(), s.upper.data(), x.data(), v.data()};
+    };
+    lanes::sweep_groups_sse2(data(lambda2, dv2));
+    lanes::sweep_groups_avx2(data(lambda4, dv4));
+    EXPECT_EQ(lambda2, lambda4);
+    EXPECT_EQ(dv2, dv4);
+  }
+#endif
 }
 
 TEST(Solver, LdlPgsBeatsPgsAtTheSameIterationCount) {

@@ -1,0 +1,60 @@
+#pragma once
+// Internal to solver/: contact points swept four at a time. A sweep row by row waits, on every
+// row, for the dV the row before it wrote (papers/physics.md, "The sweeps' latency"). Here the
+// manifolds (runs of points on one pair of velocity blocks) are coloured so that no two of a
+// colour share a block, dealt four to a group, and a group's four manifolds are swept side by
+// side in the lanes of one vector: the graph colouring and wide contact solver of Box2D v3
+// (papers/physics.md, "Contact points in lanes").
+#include <span>
+#include <vector>
+
+#include "ldlpgs/solver/system.h"
+
+namespace ldlpgs {
+
+struct RowCache;
+
+// A contact point is a one-row block bounded on its own (the normal row) followed by a two-row
+// friction disk bounded by it, on the same columns, neither in the factor.
+bool contact_point_at(const System& system, int k);
+
+struct ContactLanes {
+  static constexpr int kLanes = 4;
+  // One point of each lane's manifold: its normal row (r = 0) and two friction rows (1, 2).
+  struct Slot {
+    double j[3][12][kLanes];    // J: columns a (0-5) then b (6-11), lanes innermost
+    double wjt[3][12][kLanes];  // W J^T likewise
+    double diag[3][kLanes];     // H_ii
+    double k12[kLanes];         // J_1 W J_2^T, the friction block's coupling
+    int normal_block[kLanes];   // the normal row's block (its friction block follows); -1: padding
+    int row[3][kLanes];         // the rows' indices in lambda; -1: padding
+  };
+  struct Group {
+    int first_slot = 0, slots = 0;  // the longest of its manifolds
+    int column[2][kLanes];          // a and b per lane; -1: a static body or a padding lane
+  };
+  std::vector<int> scalar_blocks;  // every block not in a group, in order: swept first, row by row
+  std::vector<Group> groups;       // colour by colour
+  std::vector<Slot> slots;
+
+  // From the blocks and the cache's W J^T and H_ii. Allocates only when the system outgrows it.
+  void update(const System& system, const RowCache& rows);
+  // The blocks in the order a sweep takes them (the scalar ones, then each group's lanes point by
+  // point): the order in which a row-by-row sweep gives the same result.
+  void sweep_order(const System& system, std::vector<int>* blocks) const;
+
+ private:
+  struct Manifold {
+    int first_block, points, colour;
+  };
+  std::vector<Manifold> manifolds_;
+  std::vector<unsigned long long> colours_of_column_;
+  std::vector<int> by_colour_;
+};
+
+// One projected Gauss-Seidel sweep in the lanes' order: the scalar blocks as pgs_block steps
+// them (inequality_only: skipping equality blocks), then every group.
+void pgs_lanes_sweep(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv,
+                     bool inequality_only);
+
+}  // namespace ldlpgs
