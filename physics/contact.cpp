@@ -15,8 +15,9 @@ ContactKey key_of(const ContactPoint& p, int index) { return {p.body_a, p.body_b
 
 // The contact of a detected point: witness points depth/2 either side of the point along n, a
 // tangent frame built from n (Eigen's unitOrthogonal: deterministic), pair rules of shape.h.
-Contact contact_of(const Mechanism& m, const ContactPoint& p) {
+Contact contact_of(const Mechanism& m, std::span<const Eigen::Matrix3d> rotations, const ContactPoint& p) {
   const RigidBody &a = m.bodies[p.body_a], &b = m.bodies[p.body_b];
+  const Eigen::Matrix3d &ra = rotations[p.body_a], &rb = rotations[p.body_b];
   Contact c;
   c.body_a = p.body_a;
   c.body_b = p.body_b;
@@ -24,33 +25,43 @@ Contact contact_of(const Mechanism& m, const ContactPoint& p) {
   c.shape_b = p.shape_b;
   c.point = p;
   const Vector3d on_a = p.position + 0.5 * p.depth * p.normal, on_b = p.position - 0.5 * p.depth * p.normal;
-  c.anchor_a = a.orientation.conjugate() * (on_a - a.position);
-  c.anchor_b = b.orientation.conjugate() * (on_b - b.position);
+  c.anchor_a = ra.transpose() * (on_a - a.position);
+  c.anchor_b = rb.transpose() * (on_b - b.position);
   Eigen::Matrix3d world;
   world.col(0) = p.normal.unitOrthogonal();
   world.col(1) = p.normal.cross(world.col(0));
   world.col(2) = p.normal;
-  c.frame_a = a.orientation.conjugate().toRotationMatrix() * world;
+  c.frame_a = ra.transpose() * world;
   const Shape &sa = a.shapes[p.shape_a], &sb = b.shapes[p.shape_b];
   c.friction = combined_friction(sa, sb);
   c.restitution = combined_restitution(sa, sb);
   return c;
 }
 
-// Last step's impulse carried over: the normal one as it is, the friction one as a world vector
-// re-expressed in the new tangents.
-void inherit(const Mechanism& m, const Contact& old, Contact* c) {
-  const Eigen::Matrix3d ra = m.bodies[c->body_a].orientation.toRotationMatrix();
-  const Vector3d friction = ra * (old.frame_a.col(0) * old.impulse[1] + old.frame_a.col(1) * old.impulse[2]);
-  c->impulse = {old.impulse[0], friction.dot(ra * c->frame_a.col(0)), friction.dot(ra * c->frame_a.col(1))};
+// Last step's impulse carried over: the normal one as it is, the friction one as a vector
+// re-expressed in the new tangents, both frames body a's (the pair matched: the same body a).
+void inherit(const Contact& old, Contact* c) {
+  const Vector3d friction = old.frame_a.col(0) * old.impulse[1] + old.frame_a.col(1) * old.impulse[2];
+  c->impulse = {old.impulse[0], friction.dot(c->frame_a.col(0)), friction.dot(c->frame_a.col(1))};
   c->pushing_steps = old.pushing_steps;
 }
 
 }  // namespace
 
-ConstraintRows evaluate(const Contact& contact, const RigidBody& a, const RigidBody& b) {
-  const Eigen::Matrix3d ra = a.orientation.toRotationMatrix();
-  const Vector3d r_a = ra * contact.anchor_a, r_b = b.orientation * contact.anchor_b;
+double separation(const Contact& contact, const RigidBody& a, const Eigen::Matrix3d& ra, const RigidBody& b,
+                  const Eigen::Matrix3d& rb) {
+  const Vector3d r_a = ra * contact.anchor_a, r_b = rb * contact.anchor_b;
+  const Vector3d d = (b.position + r_b) - (a.position + r_a);
+  return (ra * contact.frame_a.col(2)).dot(d);
+}
+
+double separation(const Contact& contact, const RigidBody& a, const RigidBody& b) {
+  return separation(contact, a, a.orientation.toRotationMatrix(), b, b.orientation.toRotationMatrix());
+}
+
+ConstraintRows evaluate(const Contact& contact, const RigidBody& a, const Eigen::Matrix3d& ra, const RigidBody& b,
+                        const Eigen::Matrix3d& rb) {
+  const Vector3d r_a = ra * contact.anchor_a, r_b = rb * contact.anchor_b;
   const Vector3d d = (b.position + r_b) - (a.position + r_a);
   ConstraintRows out;
   out.rows = 3;
@@ -71,27 +82,37 @@ ConstraintRows evaluate(const Contact& contact, const RigidBody& a, const RigidB
   return out;
 }
 
-void make_contacts(const Mechanism& m, std::span<const ContactPoint> points, std::span<const Contact> previous,
-                   double match_distance, std::vector<ContactKey>* keys, std::vector<Contact>* out) {
+ConstraintRows evaluate(const Contact& contact, const RigidBody& a, const RigidBody& b) {
+  return evaluate(contact, a, a.orientation.toRotationMatrix(), b, b.orientation.toRotationMatrix());
+}
+
+void body_rotations(const Mechanism& mechanism, std::vector<Eigen::Matrix3d>* out) {
+  out->resize(mechanism.bodies.size());
+  for (size_t i = 0; i < mechanism.bodies.size(); ++i) (*out)[i] = mechanism.bodies[i].orientation.toRotationMatrix();
+}
+
+void make_contacts(const Mechanism& m, std::span<const Eigen::Matrix3d> rotations, std::span<const ContactPoint> points,
+                   std::span<const Contact> previous, double match_distance, std::vector<ContactKey>* keys,
+                   std::vector<Contact>* out) {
   out->clear();
   keys->resize(previous.size());
   for (size_t i = 0; i < previous.size(); ++i) (*keys)[i] = key_of(previous[i].point, static_cast<int>(i));
   std::sort(keys->begin(), keys->end());
   for (const ContactPoint& p : points) {
-    Contact c = contact_of(m, p);
+    Contact c = contact_of(m, rotations, p);
     const ContactKey key = key_of(p, -1);
     const Contact* best = nullptr;
-    double best_distance = match_distance;
+    double best_squared = match_distance * match_distance;
     for (auto it = std::lower_bound(keys->begin(), keys->end(), key); it != keys->end() && it->same_pair(key); ++it) {
       // along the contact plane only: where a detector puts a point across the gap varies
       const Vector3d diff = previous[it->index].anchor_a - c.anchor_a, n = c.frame_a.col(2);
-      const double distance = (diff - n.dot(diff) * n).norm();
-      if (distance <= best_distance) {
-        best_distance = distance;
+      const double squared = (diff - n.dot(diff) * n).squaredNorm();
+      if (squared <= best_squared) {
+        best_squared = squared;
         best = &previous[it->index];
       }
     }
-    if (best) inherit(m, *best, &c);
+    if (best) inherit(*best, &c);
     out->push_back(c);
   }
 }

@@ -100,6 +100,17 @@ struct Contact {
 //   c_n = n . d (the separation; >= 0 apart),   J = [-t, t x (d + r_a), t, r_b x t]
 // (t turns with body a: dt/dt = w_a x t). The friction rows' c is the tangential drift, unused.
 ConstraintRows evaluate(const Contact& contact, const RigidBody& a, const RigidBody& b);
+// The normal row's c alone (evaluate(...).c[0], the same operations): the separation along n,
+// negative when the witness points have passed each other.
+double separation(const Contact& contact, const RigidBody& a, const RigidBody& b);
+// Both with the bodies' rotation matrices given (body_rotations): one per body per pass over the
+// contacts instead of two per contact.
+ConstraintRows evaluate(const Contact& contact, const RigidBody& a, const Eigen::Matrix3d& ra, const RigidBody& b,
+                        const Eigen::Matrix3d& rb);
+double separation(const Contact& contact, const RigidBody& a, const Eigen::Matrix3d& ra, const RigidBody& b,
+                  const Eigen::Matrix3d& rb);
+// Every body's orientation as a rotation matrix (allocates only when the mechanism has grown).
+void body_rotations(const Mechanism& mechanism, std::vector<Eigen::Matrix3d>* out);
 
 // A contact's pair (bodies, then shapes) and its place in a list: what the matching sorts, so that
 // it moves 20 bytes per contact rather than a Contact. The index breaks ties.
@@ -120,8 +131,10 @@ struct ContactKey {
 
 // This step's contacts from the detected points, matched against last step's (`previous`):
 // a matched contact keeps its impulse (friction re-expressed in the new tangents) and its count
-// of pushing steps. `keys` is scratch. Allocates nothing once the vectors have grown.
-void make_contacts(const Mechanism& mechanism, std::span<const ContactPoint> points, std::span<const Contact> previous,
-                   double match_distance, std::vector<ContactKey>* keys, std::vector<Contact>* out);
+// of pushing steps. `rotations`: body_rotations of the mechanism; `keys` is scratch. Allocates
+// nothing once the vectors have grown.
+void make_contacts(const Mechanism& mechanism, std::span<const Eigen::Matrix3d> rotations,
+                   std::span<const ContactPoint> points, std::span<const Contact> previous, double match_distance,
+                   std::vector<ContactKey>* keys, std::vector<Contact>* out);
 
 }  // namespace ldlpgs

@@ -350,7 +350,9 @@ bool Simulation::post_stabilize(StepReport* report) {
   double previous = kUnbounded;
   for (int it = 0;; ++it) {
     const bool with_jacobian = refactor && it < cap;  // (the last evaluation only measures)
-    double error = position_rhs(with_jacobian);
+    // The first measure writes J only if it is needed: most steps end within the tolerance.
+    double error = position_rhs(with_jacobian && it > 0);
+    if (it == 0 && with_jacobian && error > options_.post_stabilize_tolerance) error = position_rhs(true);
     if (it > 0 && !(error < previous)) error = shorten_correction(previous, with_jacobian);
     if (it > 0 && !(error < previous) && !contacts_.empty()) error = continue_correction(solver, previous, refactor, with_jacobian);
     // A correction that did not lower the largest error even shortened is undone. J_0's
@@ -473,7 +475,8 @@ void Simulation::detect_contacts() {
   const ContactOptions& o = options_.contacts;
   collision_->detect(mechanism_, o.margin, mechanism_.timestep, &points_);
   std::swap(contacts_, previous_contacts_);
-  make_contacts(mechanism_, points_, previous_contacts_, o.match_distance, &contact_keys_, &contacts_);
+  body_rotations(mechanism_, &rotations_);
+  make_contacts(mechanism_, rotations_, points_, previous_contacts_, o.match_distance, &contact_keys_, &contacts_);
   mark_factored_contacts();
   order_factored_first();
   system_.truncate(joint_blocks_);
@@ -548,12 +551,29 @@ void Simulation::order_factored_first() {
 double Simulation::contact_rows(bool velocity, bool with_jacobian) {
   const ContactOptions& o = options_.contacts;
   const double dt = mechanism_.timestep;
+  // The position level's rows of contact kn: its separation c and a slop, no friction.
+  const auto position_row = [&](int kn, double c) {
+    system_.blocks[kn + 1].friction = 0;
+    const int in = system_.blocks[kn].position, if0 = system_.blocks[kn + 1].position;
+    system_.rhs[in] = -(c + o.slop);
+    system_.rhs[if0] = system_.rhs[if0 + 1] = 0;
+    return -(c + o.slop);
+  };
   double worst = 0;
+  body_rotations(mechanism_, &rotations_);
   for (size_t i = 0; i < contacts_.size(); ++i) {
     const Contact& con = contacts_[i];
     const RigidBody &a = mechanism_.bodies[con.body_a], &b = mechanism_.bodies[con.body_b];
-    const ConstraintRows rows = evaluate(con, a, b);
+    const Eigen::Matrix3d &ra = rotations_[con.body_a], &rb = rotations_[con.body_b];
     const int kn = joint_blocks_ + 2 * static_cast<int>(i), kf = kn + 1;
+    const int in = system_.blocks[kn].position, if0 = system_.blocks[kf].position;
+    system_.blocks[kn].regularization = con.factored ? o.regularization : 0;
+    if (con.factored) system_.compliance[in] = o.compliance;
+    if (!velocity && !with_jacobian) {  // (the normal row's c is all it needs)
+      worst = std::max(worst, position_row(kn, separation(con, a, ra, b, rb)));
+      continue;
+    }
+    const ConstraintRows rows = evaluate(con, a, ra, b, rb);
     const int ca = column_[con.body_a], cb = column_[con.body_b];
     for (int r = 0; r < 3 && with_jacobian; ++r) {
       const double* j = rows.jacobian.data() + 12 * r;
@@ -561,14 +581,8 @@ double Simulation::contact_rows(bool velocity, bool with_jacobian) {
       std::copy(j, j + 6, system_.cell_a(k) + 6 * row);
       std::copy(j + 6, j + 12, system_.cell_b(k) + 6 * row);
     }
-    const int in = system_.blocks[kn].position, if0 = system_.blocks[kf].position;
-    system_.blocks[kn].regularization = con.factored ? o.regularization : 0;
-    if (con.factored) system_.compliance[in] = o.compliance;
     if (!velocity) {
-      system_.blocks[kf].friction = 0;
-      system_.rhs[in] = -(rows.c[0] + o.slop);
-      system_.rhs[if0] = system_.rhs[if0 + 1] = 0;
-      worst = std::max(worst, -(rows.c[0] + o.slop));
+      worst = std::max(worst, position_row(kn, rows.c[0]));
       continue;
     }
     system_.blocks[kf].friction = con.friction;
@@ -587,7 +601,7 @@ double Simulation::contact_rows(bool velocity, bool with_jacobian) {
       const RigidBody& body = mechanism_.bodies[c == ca ? con.body_a : con.body_b];
       return x < 3 ? body.linear_velocity[x] : body.angular_velocity[x - 3];
     };
-    const double separation = rows.c[0];
+    const double gap = rows.c[0];
     double target = 0;
     if (con.factored) {
       // J V1 = 0: in the LDL block the targets must be consistent (in J's range), since the part
@@ -595,8 +609,7 @@ double Simulation::contact_rows(bool velocity, bool with_jacobian) {
       // the post-stabilization corrects the depth (papers/physics.md, "Contacts in the factor").
       target = 0;
     } else {
-      target = separation > 0 ? -separation / dt
-                              : std::min(o.baumgarte * std::max(0.0, -separation - o.slop) / dt, o.max_correction_speed);
+      target = gap > 0 ? -gap / dt : std::min(o.baumgarte * std::max(0.0, -gap - o.slop) / dt, o.max_correction_speed);
       const double approach = jv(0, current);
       if (approach < -o.restitution_threshold) target = std::max(target, -con.restitution * approach);
     }
@@ -619,7 +632,7 @@ void Simulation::keep_contact_impulses() {
 double Simulation::penetration_max() const {
   double worst = 0;
   for (const Contact& c : contacts_)
-    worst = std::max(worst, -evaluate(c, mechanism_.bodies[c.body_a], mechanism_.bodies[c.body_b]).c[0]);
+    worst = std::max(worst, -separation(c, mechanism_.bodies[c.body_a], mechanism_.bodies[c.body_b]));
   return worst;
 }
 

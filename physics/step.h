@@ -227,6 +227,7 @@ class Simulation {
   std::vector<char> carrying_;                 // mark_factored_contacts' (size bodies)
   std::unique_ptr<CollisionWorld> collision_;  // null while no body has a shape
   std::vector<ContactPoint> points_;           // detected this step
+  std::vector<Eigen::Matrix3d> rotations_;     // the bodies' orientations, per pass over the contacts
   std::vector<Contact> contacts_, previous_contacts_;  // (previous: also the reordering's buffer)
   std::vector<ContactKey> contact_keys_;       // make_contacts' and the reordering's scratch
 };

@@ -136,6 +136,35 @@ void ContactLanes::update(const System& system, const RowCache& rows) {
       groups.push_back(g);
     }
   }
+  load(system);
+}
+
+void ContactLanes::load(const System& system) {
+  for (Slot& s : slots)
+    for (int l = 0; l < kLanes; ++l) {
+      const int k = s.normal_block[l];
+      if (k < 0) {  // (a padding lane: zero steps)
+        for (int r = 0; r < 3; ++r) s.rhs[r][l] = s.eps_diag[r][l] = 0;
+        s.lower[l] = s.upper[l] = s.inverse_n[l] = s.mu[l] = s.k11[l] = s.k22[l] = s.inverse_det[l] = 0;
+        continue;
+      }
+      const RowBlock &n = system.blocks[k], &f = system.blocks[k + 1];
+      double eps[3];
+      for (int r = 0; r < 3; ++r) {
+        eps[r] = system.compliance[s.row[r][l]];
+        s.rhs[r][l] = system.rhs[s.row[r][l]];
+        s.eps_diag[r][l] = eps[r] * s.diag[r][l];
+      }
+      const double d = s.diag[0][l];
+      const bool active = d > 0;  // (pgs_row skips a row with H_ii = 0)
+      s.lower[l] = active ? system.lower[n.position] : -kUnbounded;
+      s.upper[l] = active ? system.upper[n.position] : kUnbounded;
+      s.inverse_n[l] = active ? 1 / ((1 + eps[0] + n.regularization) * d) : 0;
+      s.mu[l] = f.friction;
+      s.k11[l] = s.diag[1][l] * (1 + eps[1]);
+      s.k22[l] = s.diag[2][l] * (1 + eps[2]);
+      s.inverse_det[l] = 1 / (s.k11[l] * s.k22[l] - s.k12[l] * s.k12[l]);
+    }
 }
 
 void ContactLanes::sweep_order(const System& system, std::vector<int>* blocks) const {
@@ -169,8 +198,7 @@ void pgs_lanes_sweep(const System& system, const RowCache& rows, std::span<doubl
   }
   const ContactLanes& lanes = rows.lanes;
   const lanes::SweepData data{lanes.groups.data(), static_cast<int>(lanes.groups.size()), lanes.slots.data(),
-                              system.blocks.data(), system.rhs.data(), system.compliance.data(), system.lower.data(),
-                              system.upper.data(), lambda.data(), dv.data()};
+                              system.blocks.data(), system.compliance.data(), lambda.data(), dv.data()};
 #ifdef LDLPGS_HAVE_AVX2_LANES
   static const bool avx2 = cpu_has_avx2();
   if (avx2) {

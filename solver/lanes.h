@@ -28,6 +28,12 @@ struct ContactLanes {
     double k12[kLanes];         // J_1 W J_2^T, the friction block's coupling
     int normal_block[kLanes];   // the normal row's block (its friction block follows); -1: padding
     int row[3][kLanes];         // the rows' indices in lambda; -1: padding
+    // What a solve holds constant (load): the normal row's bounds and 1 / ((1 + eps + reg) H_ii)
+    // (0 and unbounded where H_ii = 0: the row keeps its impulse), the rows' R and eps H_ii, mu,
+    // and the friction block's K = N + E diag(N) with 1 / det K.
+    double lower[kLanes], upper[kLanes], inverse_n[kLanes];
+    double rhs[3][kLanes], eps_diag[3][kLanes];
+    double mu[kLanes], k11[kLanes], k22[kLanes], inverse_det[kLanes];
   };
   struct Group {
     int first_slot = 0, slots = 0;  // the longest of its manifolds
@@ -37,8 +43,12 @@ struct ContactLanes {
   std::vector<Group> groups;       // colour by colour
   std::vector<Slot> slots;
 
-  // From the blocks and the cache's W J^T and H_ii. Allocates only when the system outgrows it.
+  // From the blocks and the cache's W J^T and H_ii, then load. Allocates only when the system
+  // outgrows it.
   void update(const System& system, const RowCache& rows);
+  // The system's right-hand sides, bounds, compliances, regularizations and friction coefficients
+  // into the slots: once per solve, since they may change without a new J (a position level).
+  void load(const System& system);
   // The blocks in the order a sweep takes them (the scalar ones, then each group's lanes point by
   // point): the order in which a row-by-row sweep gives the same result.
   void sweep_order(const System& system, std::vector<int>* blocks) const;

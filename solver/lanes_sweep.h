@@ -13,7 +13,7 @@ struct SweepData {
   int num_groups;
   const ContactLanes::Slot* slots;
   const RowBlock* blocks;
-  const double *rhs, *compliance, *lower, *upper;
+  const double* compliance;  // (the rows swept one by one: the rest is in the slots)
   double* lambda;
   double* dv;
 };

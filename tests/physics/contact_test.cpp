@@ -172,7 +172,9 @@ TEST(Contact, RowsAreTheDerivativeOfTheirPositionErrors) {
   p.depth = 0.01;
   std::vector<Contact> contacts;
   std::vector<ContactKey> order;
-  make_contacts(m, std::span<const ContactPoint>(&p, 1), {}, 0.02, &order, &contacts);
+  std::vector<Eigen::Matrix3d> rotations;
+  body_rotations(m, &rotations);
+  make_contacts(m, rotations, std::span<const ContactPoint>(&p, 1), {}, 0.02, &order, &contacts);
   ASSERT_EQ(contacts.size(), 1u);
   const ConstraintRows rows = evaluate(contacts[0], m.bodies[0], m.bodies[1]);
   EXPECT_NEAR(rows.c[0], -0.01, 1e-12);  // the separation at detection

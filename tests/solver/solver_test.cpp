@@ -397,7 +397,7 @@ TEST(Solver, ContactLanesSweepAsTheRowsOneByOneInTheirOrder) {
     const ContactLanes& l = rows.lanes;
     const auto data = [&](std::vector<double>& x, std::vector<double>& v) {
       return lanes::SweepData{l.groups.data(), static_cast<int>(l.groups.size()), l.slots.data(), s.blocks.data(),
-                              s.rhs.data(), s.compliance.data(), s.lower.data(), s.upper.data(), x.data(), v.data()};
+                              s.compliance.data(), x.data(), v.data()};
     };
     lanes::sweep_groups_sse2(data(lambda2, dv2));
     lanes::sweep_groups_avx2(data(lambda4, dv4));
