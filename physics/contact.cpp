@@ -15,10 +15,10 @@ ContactKey key_of(const ContactPoint& p, int index) { return {p.body_a, p.body_b
 
 // The contact of a detected point: witness points depth/2 either side of the point along n, a
 // tangent frame built from n (Eigen's unitOrthogonal: deterministic), pair rules of shape.h.
-Contact contact_of(const Mechanism& m, std::span<const Eigen::Matrix3d> rotations, const ContactPoint& p) {
+void fill_contact(const Mechanism& m, std::span<const Eigen::Matrix3d> rotations, const ContactPoint& p, Contact* out) {
   const RigidBody &a = m.bodies[p.body_a], &b = m.bodies[p.body_b];
   const Eigen::Matrix3d &ra = rotations[p.body_a], &rb = rotations[p.body_b];
-  Contact c;
+  Contact& c = *out;
   c.body_a = p.body_a;
   c.body_b = p.body_b;
   c.shape_a = p.shape_a;
@@ -35,7 +35,6 @@ Contact contact_of(const Mechanism& m, std::span<const Eigen::Matrix3d> rotation
   const Shape &sa = a.shapes[p.shape_a], &sb = b.shapes[p.shape_b];
   c.friction = combined_friction(sa, sb);
   c.restitution = combined_restitution(sa, sb);
-  return c;
 }
 
 // Last step's impulse carried over: the normal one as it is, the friction one as a vector
@@ -98,12 +97,19 @@ void make_contacts(const Mechanism& m, std::span<const Eigen::Matrix3d> rotation
   keys->resize(previous.size());
   for (size_t i = 0; i < previous.size(); ++i) (*keys)[i] = key_of(previous[i].point, static_cast<int>(i));
   std::sort(keys->begin(), keys->end());
+  auto pair_first = keys->end();
+  ContactKey pair;
   for (const ContactPoint& p : points) {
-    Contact c = contact_of(m, rotations, p);
+    Contact& c = out->emplace_back();
+    fill_contact(m, rotations, p, &c);
     const ContactKey key = key_of(p, -1);
+    if (!key.same_pair(pair)) {  // (a pair's points come together: one search per pair)
+      pair = key;
+      pair_first = std::lower_bound(keys->begin(), keys->end(), key);
+    }
     const Contact* best = nullptr;
     double best_squared = match_distance * match_distance;
-    for (auto it = std::lower_bound(keys->begin(), keys->end(), key); it != keys->end() && it->same_pair(key); ++it) {
+    for (auto it = pair_first; it != keys->end() && it->same_pair(key); ++it) {
       // along the contact plane only: where a detector puts a point across the gap varies
       const Vector3d diff = previous[it->index].anchor_a - c.anchor_a, n = c.frame_a.col(2);
       const double squared = (diff - n.dot(diff) * n).squaredNorm();
@@ -113,7 +119,6 @@ void make_contacts(const Mechanism& m, std::span<const Eigen::Matrix3d> rotation
       }
     }
     if (best) inherit(*best, &c);
-    out->push_back(c);
   }
 }
 

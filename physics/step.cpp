@@ -586,21 +586,18 @@ double Simulation::contact_rows(bool velocity, bool with_jacobian) {
       continue;
     }
     system_.blocks[kf].friction = con.friction;
-    // J V for the velocities before (now) and after the free motion (v0_)
-    const auto jv = [&](int r, const auto& velocity_of) {
+    // J V for the velocities before (now: a's and b's v and w) and after the free motion (v0_)
+    const auto jv = [&](int r, const double* va, const double* vb) {
       const double* j = rows.jacobian.data() + 12 * r;
       double s = 0;
       for (int x = 0; x < 6; ++x) {
-        if (ca >= 0) s += j[x] * velocity_of(ca, x);
-        if (cb >= 0) s += j[6 + x] * velocity_of(cb, x);
+        if (va) s += j[x] * va[x];
+        if (vb) s += j[6 + x] * vb[x];
       }
       return s;
     };
-    const auto free_motion = [&](int c, int x) { return v0_[6 * c + x]; };
-    const auto current = [&](int c, int x) {
-      const RigidBody& body = mechanism_.bodies[c == ca ? con.body_a : con.body_b];
-      return x < 3 ? body.linear_velocity[x] : body.angular_velocity[x - 3];
-    };
+    const double* free_a = ca >= 0 ? v0_.data() + 6 * ca : nullptr;
+    const double* free_b = cb >= 0 ? v0_.data() + 6 * cb : nullptr;
     const double gap = rows.c[0];
     double target = 0;
     if (con.factored) {
@@ -610,12 +607,16 @@ double Simulation::contact_rows(bool velocity, bool with_jacobian) {
       target = 0;
     } else {
       target = gap > 0 ? -gap / dt : std::min(o.baumgarte * std::max(0.0, -gap - o.slop) / dt, o.max_correction_speed);
-      const double approach = jv(0, current);
+      const double now_a[6] = {a.linear_velocity.x(),  a.linear_velocity.y(),  a.linear_velocity.z(),
+                               a.angular_velocity.x(), a.angular_velocity.y(), a.angular_velocity.z()};
+      const double now_b[6] = {b.linear_velocity.x(),  b.linear_velocity.y(),  b.linear_velocity.z(),
+                               b.angular_velocity.x(), b.angular_velocity.y(), b.angular_velocity.z()};
+      const double approach = jv(0, ca >= 0 ? now_a : nullptr, cb >= 0 ? now_b : nullptr);
       if (approach < -o.restitution_threshold) target = std::max(target, -con.restitution * approach);
     }
-    system_.rhs[in] = target - jv(0, free_motion);
-    system_.rhs[if0] = -jv(1, free_motion);
-    system_.rhs[if0 + 1] = -jv(2, free_motion);
+    system_.rhs[in] = target - jv(0, free_a, free_b);
+    system_.rhs[if0] = -jv(1, free_a, free_b);
+    system_.rhs[if0 + 1] = -jv(2, free_a, free_b);
   }
   return worst;
 }

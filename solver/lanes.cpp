@@ -136,7 +136,6 @@ void ContactLanes::update(const System& system, const RowCache& rows) {
       groups.push_back(g);
     }
   }
-  load(system);
 }
 
 void ContactLanes::load(const System& system) {

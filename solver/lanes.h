@@ -5,7 +5,10 @@
 // colour share a block, dealt four to a group, and a group's four manifolds are swept side by
 // side in the lanes of one vector: the graph colouring and wide contact solver of Box2D v3
 // (papers/physics.md, "Contact points in lanes").
+#include <memory>
 #include <span>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "ldlpgs/solver/system.h"
@@ -13,6 +16,24 @@
 namespace ldlpgs {
 
 struct RowCache;
+
+// std::allocator, but growing a vector leaves its new elements default-initialized: update writes
+// every field of every slot, and value-initializing (zeroing) 3 KB slots was most of its time.
+template <class T>
+struct DefaultInitAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = DefaultInitAllocator<U>;
+  };
+  template <class U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
 
 // A contact point is a one-row block bounded on its own (the normal row) followed by a two-row
 // friction disk bounded by it, on the same columns, neither in the factor.
@@ -41,13 +62,13 @@ struct ContactLanes {
   };
   std::vector<int> scalar_blocks;  // every block not in a group, in order: swept first, row by row
   std::vector<Group> groups;       // colour by colour
-  std::vector<Slot> slots;
+  std::vector<Slot, DefaultInitAllocator<Slot>> slots;
 
-  // From the blocks and the cache's W J^T and H_ii, then load. Allocates only when the system
-  // outgrows it.
+  // From the blocks and the cache's W J^T and H_ii. Allocates only when the system outgrows it.
   void update(const System& system, const RowCache& rows);
   // The system's right-hand sides, bounds, compliances, regularizations and friction coefficients
-  // into the slots: once per solve, since they may change without a new J (a position level).
+  // into the slots, before a solve's sweeps (Solver::resolve): they may change without a new J
+  // (a position level).
   void load(const System& system);
   // The blocks in the order a sweep takes them (the scalar ones, then each group's lanes point by
   // point): the order in which a row-by-row sweep gives the same result.

@@ -357,6 +357,7 @@ TEST(Solver, ContactLanesSweepAsTheRowsOneByOneInTheirOrder) {
   for (double& e : s.compliance) e = rng() % 2 ? 1e-3 * std::abs(u(rng)) : 0.0;
   RowCache rows;
   rows.update(s);
+  rows.lanes.load(s);
   ASSERT_GE(rows.lanes.groups.size(), 10u);
   for (const ContactLanes::Group& g : rows.lanes.groups)
     for (int side = 0; side < 2; ++side)
