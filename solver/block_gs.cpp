@@ -31,27 +31,41 @@ void BlockCache::update(const System& system) {
   }
 }
 
+namespace {
+
+// Block k's step: an equality block solved exactly on its own N_k, a bounded one as PGS rows.
+void block_gs_step(const System& system, const RowCache& rows, const BlockCache& blocks, int k,
+                   std::span<double> lambda, std::span<double> dv) {
+  const RowBlock& b = system.blocks[k];
+  if (!b.equality) {
+    pgs_block(system, rows, k, lambda, dv);
+    return;
+  }
+  // residual R_k - J_k dV - eps diag(N_k) lambda_k
+  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxRowBlock, 1> res(b.size);
+  for (int r = 0; r < b.size; ++r) {
+    const int i = b.position + r;
+    res(r) = system.rhs[i] - row_times(system, k, r, dv) - blocks.diag_n[i] * lambda[i];
+  }
+  const auto delta = blocks.factors[k].solve(res).eval();
+  for (int r = 0; r < b.size; ++r) {
+    const int i = b.position + r;
+    lambda[i] += delta(r);
+    add_row_impulse(system, rows, k, r, delta(r), dv);
+  }
+}
+
+}  // namespace
+
+// In the lanes' order where the system has contact points (lanes.h), else in block order.
 void block_gs_sweep(const System& system, const RowCache& rows, const BlockCache& blocks, std::span<double> lambda,
                     std::span<double> dv) {
-  for (int k = 0; k < static_cast<int>(system.blocks.size()); ++k) {
-    const RowBlock& b = system.blocks[k];
-    if (!b.equality) {
-      pgs_block(system, rows, k, lambda, dv);
-      continue;
-    }
-    // residual R_k - J_k dV - eps diag(N_k) lambda_k
-    Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxRowBlock, 1> res(b.size);
-    for (int r = 0; r < b.size; ++r) {
-      const int i = b.position + r;
-      res(r) = system.rhs[i] - row_times(system, k, r, dv) - blocks.diag_n[i] * lambda[i];
-    }
-    const auto delta = blocks.factors[k].solve(res).eval();
-    for (int r = 0; r < b.size; ++r) {
-      const int i = b.position + r;
-      lambda[i] += delta(r);
-      add_row_impulse(system, rows, k, r, delta(r), dv);
-    }
+  if (!rows.lanes.groups.empty()) {
+    for (int k : rows.lanes.scalar_blocks) block_gs_step(system, rows, blocks, k, lambda, dv);
+    sweep_lane_groups(system, rows, lambda, dv);
+    return;
   }
+  for (int k = 0; k < static_cast<int>(system.blocks.size()); ++k) block_gs_step(system, rows, blocks, k, lambda, dv);
 }
 
 }  // namespace ldlpgs

@@ -87,5 +87,7 @@ struct ContactLanes {
 // them (inequality_only: skipping equality blocks), then every group.
 void pgs_lanes_sweep(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv,
                      bool inequality_only);
+// The groups' part of a sweep alone (block-gs steps the scalar blocks its own way).
+void sweep_lane_groups(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv);
 
 }  // namespace ldlpgs
