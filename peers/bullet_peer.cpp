@@ -98,7 +98,7 @@ struct PairRules {
 
 }  // namespace
 
-PeerResult run_bullet(const Mechanism& m, double seconds, int iterations) {
+PeerResult run_bullet(const Mechanism& m, double seconds, int iterations, bool two_friction) {
   PeerResult r;
   r.skipped = unsupported(m, {ConstraintType::ball, ConstraintType::hinge, ConstraintType::prismatic,
                               ConstraintType::cylindrical, ConstraintType::weld}, "Bullet");
@@ -117,6 +117,7 @@ PeerResult run_bullet(const Mechanism& m, double seconds, int iterations) {
   btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
   world.setGravity(bt(m.gravity));
   world.getSolverInfo().m_numIterations = iterations;
+  if (two_friction) world.getSolverInfo().m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
   world.getPairCache()->setOverlapFilterCallback(&filter);
   const PairRules rules;
 

@@ -9,7 +9,9 @@ namespace ldlpgs::peers {
 
 // quickstep_iterations 0: dWorldStep (dense LCP), else dWorldQuickStep with that many iterations.
 PeerResult run_ode(const Mechanism& m, double seconds, int quickstep_iterations);
-PeerResult run_bullet(const Mechanism& m, double seconds, int iterations);
+// two_friction: SOLVER_USE_2_FRICTION_DIRECTIONS, two friction rows a contact point as ours
+// (Bullet's default solves one, along the sliding direction).
+PeerResult run_bullet(const Mechanism& m, double seconds, int iterations, bool two_friction = false);
 PeerResult run_mujoco(const Mechanism& m, double seconds);
 // Reduced coordinates; forests only. rk4: MuJoCo's RK4 at timestep / 16 (the tree reference).
 PeerResult run_mujoco_tree(const Mechanism& m, double seconds, bool rk4 = false);

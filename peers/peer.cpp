@@ -17,7 +17,7 @@ namespace ldlpgs::peers {
 PeerResult run_ode(const Mechanism&, double, int) { return {}; }
 #endif
 #ifndef LDLPGS_HAVE_BULLET
-PeerResult run_bullet(const Mechanism&, double, int) { return {}; }
+PeerResult run_bullet(const Mechanism&, double, int, bool) { return {}; }
 #endif
 #ifndef LDLPGS_HAVE_MUJOCO
 PeerResult run_mujoco(const Mechanism&, double) { return {}; }
@@ -95,11 +95,12 @@ PeerEngine ode(int quickstep_iterations) {
             return named(run_ode(m, s, quickstep_iterations), m, name);
           }};
 }
-PeerEngine bullet(int iterations) {
+PeerEngine bullet(int iterations, bool two_friction = false) {
   std::string name = "bullet-si-";
   name += std::to_string(iterations);
-  return {name, "Bullet float64 (libbullet-dev)", kBullet, [iterations, name](const Mechanism& m, double s) {
-            return named(run_bullet(m, s, iterations), m, name);
+  if (two_friction) name += "-2f";
+  return {name, "Bullet float64 (libbullet-dev)", kBullet, [iterations, two_friction, name](const Mechanism& m, double s) {
+            return named(run_bullet(m, s, iterations, two_friction), m, name);
           }};
 }
 
@@ -118,6 +119,7 @@ const std::vector<PeerEngine>& peer_engines() {
       ode(200),
       bullet(10),  // Bullet's default m_numIterations is 10
       bullet(100),
+      bullet(10, true),  // our rows a contact point: a normal and two friction directions
       {"mujoco-maximal", "MuJoCo (libmujoco-dev)", kMujoco,
        [](const Mechanism& m, double s) { return named(run_mujoco(m, s), m, "mujoco-maximal"); }},
       {"mujoco-reduced", "MuJoCo (libmujoco-dev)", kMujoco,
