@@ -21,7 +21,7 @@
 // never merge at link time (an AVX2 copy of an inline kernel must not serve the SSE2 caller).
 // For the same reason nothing here calls a standard-library function (an unoptimized build emits
 // std::abs out of line, under the same name in both builds): compiler builtins instead, and the
-// table of fused kernels is a plain array (tests/factor/avx2_symbols.sh checks the AVX2 and
+// table of fused kernels is a plain array (tests/support/isa_symbols.sh checks the AVX2 and
 // AVX-512 objects).
 #if defined(LDLPGS_KERNELS_AVX512)
 #define LDLPGS_KERNELS_ISA avx512

@@ -67,15 +67,24 @@ void ContactLanes::update(const System& system, const RowCache& rows) {
   scalar_blocks.clear();
   groups.clear();
   slots.clear();
-  manifolds_.clear();
-  const int num_blocks = static_cast<int>(system.blocks.size());
   // Each bounded by the blocks (a point is two), so that a step allocates only when its system
   // outgrows every earlier one, whatever the colouring.
+  const int num_blocks = static_cast<int>(system.blocks.size());
   scalar_blocks.reserve(num_blocks);
   groups.reserve(num_blocks / 2);
   slots.reserve(num_blocks / 2);
   by_colour_.reserve(num_blocks / 2);
   manifolds_.reserve(num_blocks / 2);
+  find_manifolds(system);
+  const int colours = colour_manifolds(system);
+  std::sort(scalar_blocks.begin(), scalar_blocks.end());
+  for (int c = 0; c < colours; ++c) deal_colour(system, rows, c);
+}
+
+// The runs of contact points on one pair of columns; every other block to scalar_blocks.
+void ContactLanes::find_manifolds(const System& system) {
+  manifolds_.clear();
+  const int num_blocks = static_cast<int>(system.blocks.size());
   for (int k = 0; k < num_blocks;) {
     if (!contact_point_at(system, k)) {
       scalar_blocks.push_back(k++);
@@ -88,8 +97,11 @@ void ContactLanes::update(const System& system, const RowCache& rows) {
     }
     manifolds_.push_back(m);
   }
-  // Greedy colouring: a manifold takes the first colour neither of its columns has; past 64
-  // colours it is swept row by row.
+}
+
+// Greedy colouring: a manifold takes the first colour neither of its columns has; past 64
+// colours it is swept row by row. Returns the number of colours.
+int ContactLanes::colour_manifolds(const System& system) {
   colours_of_column_.assign(system.num_columns, 0);
   int colours = 0;
   for (Manifold& m : manifolds_) {
@@ -106,35 +118,35 @@ void ContactLanes::update(const System& system, const RowCache& rows) {
     if (b.column_b >= 0) colours_of_column_[b.column_b] |= 1ull << m.colour;
     colours = std::max(colours, m.colour + 1);
   }
-  std::sort(scalar_blocks.begin(), scalar_blocks.end());
-  // Each colour's manifolds, in block order, four to a group.
-  for (int c = 0; c < colours; ++c) {
-    by_colour_.clear();
-    for (int i = 0; i < static_cast<int>(manifolds_.size()); ++i)
-      if (manifolds_[i].colour == c) by_colour_.push_back(i);
-    for (size_t first = 0; first < by_colour_.size(); first += kLanes) {
-      Group g;
-      g.first_slot = static_cast<int>(slots.size());
-      for (int l = 0; l < kLanes; ++l) {
-        const bool used = first + l < by_colour_.size();
-        const Manifold* m = used ? &manifolds_[by_colour_[first + l]] : nullptr;
-        g.slots = std::max(g.slots, used ? m->points : 0);
-        g.column[0][l] = used ? system.blocks[m->first_block].column_a : -1;
-        g.column[1][l] = used ? system.blocks[m->first_block].column_b : -1;
-      }
-      slots.resize(slots.size() + g.slots);
-      for (int l = 0; l < kLanes; ++l) {
-        const Manifold* m = first + l < by_colour_.size() ? &manifolds_[by_colour_[first + l]] : nullptr;
-        for (int p = 0; p < g.slots; ++p) {
-          Slot* s = &slots[g.first_slot + p];
-          if (m && p < m->points)
-            fill_point(system, rows, m->first_block + 2 * p, l, s);
-          else
-            clear_lane(l, s);
-        }
-      }
-      groups.push_back(g);
+  return colours;
+}
+
+// Colour c's manifolds, in block order, four to a group, its lanes' points into slots (a
+// shorter manifold's lane padded).
+void ContactLanes::deal_colour(const System& system, const RowCache& rows, int colour) {
+  by_colour_.clear();
+  for (int i = 0; i < static_cast<int>(manifolds_.size()); ++i)
+    if (manifolds_[i].colour == colour) by_colour_.push_back(i);
+  for (size_t first = 0; first < by_colour_.size(); first += kLanes) {
+    const Manifold* lane[kLanes];
+    Group g;
+    g.first_slot = static_cast<int>(slots.size());
+    for (int l = 0; l < kLanes; ++l) {
+      lane[l] = first + l < by_colour_.size() ? &manifolds_[by_colour_[first + l]] : nullptr;
+      g.slots = std::max(g.slots, lane[l] ? lane[l]->points : 0);
+      g.column[0][l] = lane[l] ? system.blocks[lane[l]->first_block].column_a : -1;
+      g.column[1][l] = lane[l] ? system.blocks[lane[l]->first_block].column_b : -1;
     }
+    slots.resize(slots.size() + g.slots);
+    for (int l = 0; l < kLanes; ++l)
+      for (int p = 0; p < g.slots; ++p) {
+        Slot* s = &slots[g.first_slot + p];
+        if (lane[l] && p < lane[l]->points)
+          fill_point(system, rows, lane[l]->first_block + 2 * p, l, s);
+        else
+          clear_lane(l, s);
+      }
+    groups.push_back(g);
   }
 }
 
@@ -166,7 +178,7 @@ void ContactLanes::load(const System& system) {
     }
 }
 
-void ContactLanes::sweep_order(const System& system, std::vector<int>* blocks) const {
+void ContactLanes::sweep_order(std::vector<int>* blocks) const {
   blocks->clear();
   for (int k : scalar_blocks) blocks->push_back(k);
   for (const Group& g : groups)
@@ -177,7 +189,6 @@ void ContactLanes::sweep_order(const System& system, std::vector<int>* blocks) c
         blocks->push_back(k);
         blocks->push_back(k + 1);
       }
-  (void)system;
 }
 
 #ifdef LDLPGS_HAVE_AVX2_LANES

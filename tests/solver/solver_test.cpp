@@ -368,7 +368,7 @@ TEST(Solver, ContactLanesSweepAsTheRowsOneByOneInTheirOrder) {
               ASSERT_NE(g.column[side][l], g.column[other_side][other]);
             }
   std::vector<int> order;
-  rows.lanes.sweep_order(s, &order);
+  rows.lanes.sweep_order(&order);
   std::vector<int> sorted = order;
   std::sort(sorted.begin(), sorted.end());
   for (int k = 0; k < static_cast<int>(s.blocks.size()); ++k) ASSERT_EQ(sorted[k], k);  // every block once
