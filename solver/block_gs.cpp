@@ -57,15 +57,11 @@ void block_gs_step(const System& system, const RowCache& rows, const BlockCache&
 
 }  // namespace
 
-// In the lanes' order where the system has contact points (lanes.h), else in block order.
+// In the lanes' order (lanes.h): the blocks outside the lanes in block order, then the groups.
 void block_gs_sweep(const System& system, const RowCache& rows, const BlockCache& blocks, std::span<double> lambda,
                     std::span<double> dv) {
-  if (!rows.lanes.groups.empty()) {
-    for (int k : rows.lanes.scalar_blocks) block_gs_step(system, rows, blocks, k, lambda, dv);
-    sweep_lane_groups(system, rows, lambda, dv);
-    return;
-  }
-  for (int k = 0; k < static_cast<int>(system.blocks.size()); ++k) block_gs_step(system, rows, blocks, k, lambda, dv);
+  for (int k : rows.lanes.scalar_blocks) block_gs_step(system, rows, blocks, k, lambda, dv);
+  sweep_lane_groups(system, rows, lambda, dv);
 }
 
 }  // namespace ldlpgs

@@ -200,15 +200,6 @@ bool cpu_has_avx2() {
 }  // namespace
 #endif
 
-void pgs_lanes_sweep(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv,
-                     bool inequality_only) {
-  for (int k : rows.lanes.scalar_blocks) {
-    if (inequality_only && system.blocks[k].equality) continue;
-    pgs_block(system, rows, k, lambda, dv);
-  }
-  sweep_lane_groups(system, rows, lambda, dv);
-}
-
 void sweep_lane_groups(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv) {
   const ContactLanes& lanes = rows.lanes;
   const lanes::SweepData data{lanes.groups.data(), static_cast<int>(lanes.groups.size()), lanes.slots.data(),

@@ -87,11 +87,8 @@ struct ContactLanes {
   std::vector<int> by_colour_;
 };
 
-// One projected Gauss-Seidel sweep in the lanes' order: the scalar blocks as pgs_block steps
-// them (inequality_only: skipping equality blocks), then every group.
-void pgs_lanes_sweep(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv,
-                     bool inequality_only);
-// The groups' part of a sweep alone (block-gs steps the scalar blocks its own way).
+// The groups' part of a sweep: pgs_sweep and block_gs_sweep step scalar_blocks first (every
+// block, in order, where the system has no contact points), each its own way.
 void sweep_lane_groups(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv);
 
 }  // namespace ldlpgs

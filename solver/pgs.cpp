@@ -9,15 +9,11 @@ namespace ldlpgs {
 
 void pgs_sweep(const System& system, const RowCache& cache, std::span<double> lambda, std::span<double> dv,
                bool inequality_only) {
-  if (!cache.lanes.groups.empty()) {
-    pgs_lanes_sweep(system, cache, lambda, dv, inequality_only);
-    return;
-  }
-  for (int k = 0; k < static_cast<int>(system.blocks.size()); ++k) {
-    const RowBlock& b = system.blocks[k];
-    if (inequality_only && b.equality) continue;
+  for (int k : cache.lanes.scalar_blocks) {
+    if (inequality_only && system.blocks[k].equality) continue;
     pgs_block(system, cache, k, lambda, dv);
   }
+  sweep_lane_groups(system, cache, lambda, dv);
 }
 
 void disk_minimizer(double k11, double k12, double k22, const double b[2], double r, double x[2]) {

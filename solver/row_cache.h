@@ -113,7 +113,8 @@ inline void pgs_block(const System& system, const RowCache& cache, int k, std::s
 // impulse; normal rows come before their friction rows): a warm start's projection.
 void project_onto_bounds(const System& system, std::span<double> lambda);
 
-// pgs.cpp: one sweep over the rows of every block (inequality_only: of the bounded blocks).
+// pgs.cpp: one sweep over the rows of every block (inequality_only: of the bounded blocks), in the
+// lanes' order (lanes.h): the blocks outside the lanes in block order, then the lanes' groups.
 void pgs_sweep(const System& system, const RowCache& cache, std::span<double> lambda, std::span<double> dv,
                bool inequality_only = false);
 
