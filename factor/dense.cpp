@@ -78,6 +78,65 @@ int ldl_unblocked(double* a, int n, int ld, const double* floor, double* inv_d) 
   return -1;
 }
 
+// Cholesky's Lc (b columns; b x b block a11 and the m rows below it, row stride ld) to unit L
+// and D = diag(Lc)^2: column j of Lc divided by Lc_jj. w: b doubles of scratch.
+void to_unit_ldl(double* a11, int b, int m, int ld, double* inv_d, double* w) {
+  for (int j = 0; j < b; ++j) {
+    const double l = a11[static_cast<int64_t>(j) * ld + j];
+    w[j] = 1.0 / l;
+    a11[static_cast<int64_t>(j) * ld + j] = l * l;
+    inv_d[j] = w[j] * w[j];
+  }
+  for (int i = 1; i < b + m; ++i) {
+    double* ai = a11 + static_cast<int64_t>(i) * ld;
+    const int cols = std::min(i, b);
+    for (int j = 0; j < cols; ++j) ai[j] *= w[j];
+  }
+}
+
+// Every pivot D_j = Lc_jj^2 of a Cholesky factor above its floor (and finite).
+bool pivots_above_floor(const double* a, int n, int ld, const double* floor) {
+  for (int j = 0; j < n; ++j) {
+    const double l = a[static_cast<int64_t>(j) * ld + j];
+    if (zero_pivot(l * l, floor[j])) return false;
+  }
+  return true;
+}
+
+// The strictly lower triangle of the n x n block a (row stride ld) copied to the strictly upper
+// one, by 32 x 32 tiles; with `scale`, the way back: lower(i, j) = upper(j, i) * scale[j].
+constexpr int kTile = 32;
+void mirror_to_upper(double* a, int n, int ld) {
+  for (int i0 = 0; i0 < n; i0 += kTile)
+    for (int j0 = 0; j0 <= i0; j0 += kTile)
+      for (int i = i0; i < std::min(n, i0 + kTile); ++i)
+        for (int j = j0; j < std::min(i, j0 + kTile); ++j)
+          a[static_cast<int64_t>(j) * ld + i] = a[static_cast<int64_t>(i) * ld + j];
+}
+void scaled_to_lower(double* a, int n, int ld, const double* scale) {
+  for (int i0 = 0; i0 < n; i0 += kTile)
+    for (int j0 = 0; j0 <= i0; j0 += kTile)
+      for (int i = i0; i < std::min(n, i0 + kTile); ++i)
+        for (int j = j0; j < std::min(i, j0 + kTile); ++j)
+          a[static_cast<int64_t>(i) * ld + j] = a[static_cast<int64_t>(j) * ld + i] * scale[j];
+}
+
+// The whole n x n block by one dpotrf, as CHOLMOD factors a supernode. LAPACK's blocked Cholesky
+// sweeps the trailing matrix less than our 64-column panels, and OpenBLAS's lower-triangle dpotrf
+// is faster than its upper one (papers/factor.md, "Dense fronts"): so the lower triangle is
+// copied to the upper one (row-major upper = BLAS's lower) and factored there, Lc^T in the upper
+// triangle, the block's lower triangle left as it was. Returns false, with the diagonal restored
+// from w (n doubles), where the block is not positive definite with every pivot above its floor.
+bool cholesky_upper(double* a, int n, int ld, const double* floor, double* w) {
+  for (int i = 0; i < n; ++i) w[i] = a[static_cast<int64_t>(i) * ld + i];
+  mirror_to_upper(a, n, ld);
+  int info = 0;
+  dpotrf_("L", &n, a, &ld, &info);
+  if (info == 0 && pivots_above_floor(a, n, ld, floor)) return true;
+  for (int i = 0; i < n; ++i) a[static_cast<int64_t>(i) * ld + i] = w[i];
+  return false;
+}
+
 }  // namespace
 
 // A panel's diagonal block b x b (row stride ld) by LAPACK's Cholesky, A11 = Lc Lc^T, when it is
@@ -92,12 +151,7 @@ bool cholesky_panel(double* a11, int b, int m, int ld, const double* floor, doub
   copy_lower(a11, ld, w, b, b);
   int info = 0;
   dpotrf_("U", &b, a11, &ld, &info);  // row-major lower Lc = BLAS's upper U = Lc^T
-  bool ok = info == 0;
-  for (int j = 0; ok && j < b; ++j) {
-    const double l = a11[static_cast<int64_t>(j) * ld + j];
-    ok = !zero_pivot(l * l, floor[j]);
-  }
-  if (!ok) {
+  if (info != 0 || !pivots_above_floor(a11, b, ld, floor)) {
     copy_lower(w, b, a11, ld, b);
     return false;
   }
@@ -107,18 +161,7 @@ bool cholesky_panel(double* a11, int b, int m, int ld, const double* floor, doub
     dtrsm_("L", "U", "T", "N", &b, &m, &one, a11, &ld, r, &ld);           // X = R Lc^-T
     dsyrk_("U", "T", &m, &b, &minus_one, r, &ld, &one, r + b, &ld);         // A22 -= X X^T
   }
-  // To unit L and D: column j of Lc (rows below j, in A11 and in R) divided by Lc_jj.
-  for (int j = 0; j < b; ++j) {
-    const double l = a11[static_cast<int64_t>(j) * ld + j];
-    w[j] = 1.0 / l;
-    a11[static_cast<int64_t>(j) * ld + j] = l * l;
-    inv_d[j] = w[j] * w[j];
-  }
-  for (int i = 1; i < b + m; ++i) {
-    double* ai = a11 + static_cast<int64_t>(i) * ld;
-    const int cols = std::min(i, b);
-    for (int j = 0; j < cols; ++j) ai[j] *= w[j];
-  }
+  to_unit_ldl(a11, b, m, ld, inv_d, w);
   return true;
 }
 
@@ -147,6 +190,37 @@ int ldl_blocked(double* a, int n, int ld, const double* floor, double* inv_d, do
     }
     lower_gemm(-1, w, b, r, ld, m, b, 1, r + b, ld);
   }
+  return -1;
+}
+
+// A positive definite node block as CHOLMOD does a supernode: Lc by one dpotrf, X = E Lc^-T by
+// dtrsm, C = X X^T by dsyrk, then Lc and X rescaled to L and Y = X diag(Lc)^-1 (E = Y D L^T with
+// D = diag(Lc)^2, and C = Y D Y^T = W Y^T). Any other: by panels, then begin_l and lower_product.
+int factor_supernode(double* node, int d, int h, const double* floor, double* inv_d, double* w) {
+  double* e = node + static_cast<int64_t>(d) * d;
+  double* c = w + static_cast<int64_t>(h) * d;
+  if (d > kWholeCholeskyMaxRows || !cholesky_upper(node, d, d, floor, w)) {
+    const int bad = ldl_blocked(node, d, d, floor, inv_d, w);
+    if (bad >= 0) return bad;
+    begin_l(e, w, node, inv_d, h, d);
+    lower_product(w, e, h, d, c);
+    return -1;
+  }
+  if (h > 0) {
+    const double one = 1, zero = 0;
+    dtrsm_("L", "L", "N", "N", &d, &h, &one, node, &d, e, &d);  // X = E Lc^-T (BLAS: Lc^-1 E^T)
+    dsyrk_("U", "T", &h, &d, &one, e, &d, &zero, c, &h);         // C = X X^T, lower triangle
+  }
+  // To unit L (from the upper triangle), D and Y = X diag(Lc)^-1.
+  for (int j = 0; j < d; ++j) {
+    const double l = node[static_cast<int64_t>(j) * d + j];
+    w[j] = 1.0 / l;
+    node[static_cast<int64_t>(j) * d + j] = l * l;
+    inv_d[j] = w[j] * w[j];
+  }
+  scaled_to_lower(node, d, d, w);
+  for (int64_t i = 0; i < h; ++i)
+    for (int j = 0; j < d; ++j) e[i * d + j] *= w[j];
   return -1;
 }
 

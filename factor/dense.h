@@ -15,6 +15,9 @@ namespace ldlpgs::dense {
 // on heavy-253's single 976-row supernode (papers/factor.md, "Supernodes").
 inline constexpr int kPanel = 64;
 inline constexpr int kRowPanel = 128;
+// Node blocks up to this many rows try LAPACK's Cholesky of the whole block (factor_supernode);
+// wider ones, whose two transposed copies no longer stay in the core's cache, go by panels.
+inline constexpr int kWholeCholeskyMaxRows = 384;
 
 // LDL^T without pivoting of the n x n row-major block a (lower triangle, row stride ld), in
 // place, as kernels::ldl_node: unit-lower L below the diagonal, D on it, inv_d = 1 / D, floor[j]
@@ -25,6 +28,13 @@ inline constexpr int kRowPanel = 128;
 // 188-201); heavy-63's factorization 227 against 290 us (papers/factor.md, "Small supernodes
 // and Cholesky panels"). w: scratch of n * kPanel doubles.
 int ldl_blocked(double* a, int n, int ld, const double* floor, double* inv_d, double* w);
+
+// A supernode's elimination: its d x d node block (lower triangle) factored in place as
+// ldl_blocked, E (h x d, following the node) turned into Y, and the lower triangle of C = W Y^T
+// (h x h, row-major) left at w + h * d. A positive definite node takes LAPACK's Cholesky of the
+// whole block, as CHOLMOD's supernodes do; any other, the panels, begin_l and lower_product.
+// Returns ldl_blocked's bad pivot or -1. w: scratch of max(h * d + h * h, d * kPanel) doubles.
+int factor_supernode(double* node, int d, int h, const double* floor, double* inv_d, double* w);
 
 // W = E L^-T (into w, h x n row-major) and Y = W D^-1 (over e), node = L D L^T factored.
 void begin_l(double* e, double* w, const double* node, const double* inv_d, int h, int n);

@@ -1,5 +1,6 @@
 // factor/dense.cpp: the blocked LDL^T of a wide supernode's node block, whose panels run
-// LAPACK's Cholesky where they are positive definite and the LDL^T triple loop where not. Checked
+// LAPACK's Cholesky where they are positive definite and the LDL^T triple loop where not, and a
+// whole supernode (node block and the rows below it). Checked
 // against independent references: the reconstruction L D L^T against A, and the inertia against
 // the signs of A's eigenvalues (Sylvester's law of inertia) from Eigen's dense eigensolver.
 #include "ldlpgs/factor/dense.h"
@@ -136,6 +137,54 @@ TEST(Dense, NonFinitePivotIsReported) {
       a(k, k) = bad;
       EXPECT_EQ(factor(a).bad, k) << bad;
     }
+  }
+}
+
+// A supernode (factor_supernode): the node block A (d x d) followed by the h rows E below it.
+// Checked against Eigen: L D L^T = A, Y D L^T = E and C = E A^-1 E^T (the Schur update). A
+// positive definite node up to kWholeCholeskyMaxRows rows is LAPACK's Cholesky of the whole block
+// (D_j exactly the square of dpotrf's Lc_jj); wider or indefinite nodes go by panels.
+TEST(Dense, SupernodeGivesLYAndTheSchurUpdate) {
+  struct Case {
+    int d, h;
+    bool definite;
+  };
+  for (const Case& k : {Case{20, 7, true}, Case{dense::kPanel + 6, 30, false}, Case{dense::kPanel + 6, 0, true},
+                        Case{dense::kWholeCholeskyMaxRows + 3, 5, true}}) {
+    SCOPED_TRACE(testing::Message() << k.d << " x " << k.h << (k.definite ? " definite" : " indefinite"));
+    const int d = k.d, h = k.h;
+    std::vector<double> signs(d, 1.0);
+    if (!k.definite) signs[d / 2] = -1;
+    const Matrix a = k.definite ? spd(d, 5) : dominant(signs, 5);
+    Matrix e = Matrix::Random(h, d);
+    Matrix block(d + h, d);
+    block.topRows(d) = a;
+    block.topRows(d).triangularView<Eigen::StrictlyUpper>().setConstant(std::nan(""));
+    block.bottomRows(h) = e;
+    std::vector<double> floors(d, 1e-300), inv_d(d, 0);
+    std::vector<double> w(std::max(static_cast<size_t>(h) * d + static_cast<size_t>(h) * h, static_cast<size_t>(d) * dense::kPanel));
+    ASSERT_EQ(dense::factor_supernode(block.data(), d, h, floors.data(), inv_d.data(), w.data()), -1);
+    Matrix l = Matrix::Identity(d, d), dm = Matrix::Zero(d, d);
+    for (int i = 0; i < d; ++i) {
+      for (int j = 0; j < i; ++j) l(i, j) = block(i, j);
+      dm(i, i) = block(i, i);
+      EXPECT_DOUBLE_EQ(inv_d[i] * dm(i, i), 1.0) << i;
+    }
+    EXPECT_LE((l * dm * l.transpose() - a).norm() / a.norm(), 1e-14 * d);
+    if (k.definite && d <= dense::kWholeCholeskyMaxRows) {
+      Matrix lc = a;
+      int info = 0;
+      dpotrf_("L", &d, lc.data(), &d, &info);  // (A symmetric: the same block whichever triangle)
+      ASSERT_EQ(info, 0);
+      for (int j = 0; j < d; ++j) EXPECT_EQ(dm(j, j), lc(j, j) * lc(j, j)) << j;
+    }
+    if (h == 0) continue;
+    const Matrix y = block.bottomRows(h);
+    EXPECT_LE((y * dm * l.transpose() - e).norm() / e.norm(), 1e-13);
+    const Matrix c_ref = e * a.ldlt().solve(Matrix(e.transpose()));
+    const Eigen::Map<const Matrix> c(w.data() + static_cast<size_t>(h) * d, h, h);
+    EXPECT_LE((Matrix(c.triangularView<Eigen::Lower>()) - Matrix(c_ref.triangularView<Eigen::Lower>())).norm() / c_ref.norm(),
+              1e-12);
   }
 }
 
