@@ -104,7 +104,8 @@ bool pivots_above_floor(const double* a, int n, int ld, const double* floor) {
 }
 
 // The strictly lower triangle of the n x n block a (row stride ld) copied to the strictly upper
-// one, by 32 x 32 tiles; with `scale`, the way back: lower(i, j) = upper(j, i) * scale[j].
+// one, by 32 x 32 tiles. scaled_to_lower is the way back, column j scaled by scale[j]:
+// lower(i, j) = upper(j, i) * scale[j].
 constexpr int kTile = 32;
 void mirror_to_upper(double* a, int n, int ld) {
   for (int i0 = 0; i0 < n; i0 += kTile)
@@ -128,7 +129,10 @@ void scaled_to_lower(double* a, int n, int ld, const double* scale) {
 // triangle, the block's lower triangle left as it was. Returns false, with the diagonal restored
 // from w (n doubles), where the block is not positive definite with every pivot above its floor.
 bool cholesky_upper(double* a, int n, int ld, const double* floor, double* w) {
-  for (int i = 0; i < n; ++i) w[i] = a[static_cast<int64_t>(i) * ld + i];
+  for (int i = 0; i < n; ++i) {
+    w[i] = a[static_cast<int64_t>(i) * ld + i];
+    if (!(w[i] > floor[i])) return false;  // (not positive definite: no copy, no dpotrf)
+  }
   mirror_to_upper(a, n, ld);
   int info = 0;
   dpotrf_("L", &n, a, &ld, &info);

@@ -2,10 +2,11 @@
 // The supernodal kernels: the same three steps as kernels.h (node LDL^T, W = E L^-T with
 // Y = W D^-1 kept as the factor's rows below the node, the reduction's product), for a supernode wide enough that level-3 BLAS
 // (dtrsm, dgemm) beats the unrolled loops. Same layout as kernels.h: node block n x n row-major
-// (lower triangle read), E h x n row-major. A row-major m x n matrix with row stride ld is, to
-// column-major BLAS, its transpose n x m with leading dimension ld: every call below passes the
-// transposed problem, so no copy is made. Nothing here allocates: the scratch comes from the
-// numeric phase (sizes in the comments).
+// (lower triangle read; the upper one is scratch, written by factor_supernode and the panels'
+// products, read by no one after), E h x n row-major. A row-major m x n matrix with row stride
+// ld is, to column-major BLAS, its transpose n x m with leading dimension ld: the calls below
+// pass the transposed problem, and copy only where factor_supernode wants BLAS's other triangle.
+// Nothing here allocates: the scratch comes from the numeric phase (sizes in the comments).
 #include <cstdint>
 
 namespace ldlpgs::dense {
@@ -16,7 +17,9 @@ namespace ldlpgs::dense {
 inline constexpr int kPanel = 64;
 inline constexpr int kRowPanel = 128;
 // Node blocks up to this many rows try LAPACK's Cholesky of the whole block (factor_supernode);
-// wider ones, whose two transposed copies no longer stay in the core's cache, go by panels.
+// wider ones go by panels. Measured faster at 260 rows and slower at 976 (the two transposed
+// copies of a block that outgrows the cache); 384 lies between, not tuned (papers/factor.md,
+// "Dense fronts").
 inline constexpr int kWholeCholeskyMaxRows = 384;
 
 // LDL^T without pivoting of the n x n row-major block a (lower triangle, row stride ld), in
@@ -31,9 +34,12 @@ int ldl_blocked(double* a, int n, int ld, const double* floor, double* inv_d, do
 
 // A supernode's elimination: its d x d node block (lower triangle) factored in place as
 // ldl_blocked, E (h x d, following the node) turned into Y, and the lower triangle of C = W Y^T
-// (h x h, row-major) left at w + h * d. A positive definite node takes LAPACK's Cholesky of the
-// whole block, as CHOLMOD's supernodes do; any other, the panels, begin_l and lower_product.
-// Returns ldl_blocked's bad pivot or -1. w: scratch of max(h * d + h * h, d * kPanel) doubles.
+// (h x h, row-major) left at w + h * d. A positive definite node of at most
+// kWholeCholeskyMaxRows rows takes LAPACK's Cholesky of the whole block, as CHOLMOD's supernodes
+// do, through a copy in the node's upper triangle; any other, the panels, begin_l and
+// lower_product (a node that fails the Cholesky has paid for the copy and the dpotrf up to its
+// first bad pivot, unless a diagonal entry at or below its floor shows it at once). Returns
+// ldl_blocked's bad pivot or -1. w: scratch of max(h * d + h * h, d * kPanel) doubles.
 int factor_supernode(double* node, int d, int h, const double* floor, double* inv_d, double* w);
 
 // W = E L^-T (into w, h x n row-major) and Y = W D^-1 (over e), node = L D L^T factored.

@@ -24,13 +24,15 @@ struct Result {
   std::vector<double> inv_d;
 };
 
-Result factor(const Matrix& a, double floor = 1e-300) {
+// By ldl_blocked's panels, or (whole) by factor_supernode as a supernode with no rows below.
+Result factor(const Matrix& a, double floor = 1e-300, bool whole = false) {
   const int n = static_cast<int>(a.rows());
   Matrix f = a;
   f.triangularView<Eigen::StrictlyUpper>().setConstant(std::nan(""));  // only the lower triangle is read
   std::vector<double> floors(n, floor), inv_d(n, 0), w(static_cast<size_t>(n) * dense::kPanel);
-  Result r{dense::ldl_blocked(f.data(), n, n, floors.data(), inv_d.data(), w.data()), Matrix::Identity(n, n),
-           Matrix::Zero(n, n), inv_d};
+  const int bad = whole ? dense::factor_supernode(f.data(), n, 0, floors.data(), inv_d.data(), w.data())
+                        : dense::ldl_blocked(f.data(), n, n, floors.data(), inv_d.data(), w.data());
+  Result r{bad, Matrix::Identity(n, n), Matrix::Zero(n, n), inv_d};
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < i; ++j) r.l(i, j) = f(i, j);
     r.d(i, i) = f(i, i);
@@ -123,12 +125,15 @@ TEST(Dense, ZeroPivotIsReportedWhereverItFalls) {
       for (int j = 0; j < n; ++j) v(i, j) = g(rng);
     v.row(k) = v.row(k - 1);
     const Matrix a = v * v.transpose();
-    EXPECT_EQ(factor(a, 1e-8 * n).bad, k);
-    EXPECT_EQ(factor(spd(n, 7), 1e-8 * n).bad, -1);
+    for (const bool whole : {false, true}) {  // (whole: dpotrf may pass the pivot; its floor may not)
+      EXPECT_EQ(factor(a, 1e-8 * n, whole).bad, k) << whole;
+      EXPECT_EQ(factor(spd(n, 7), 1e-8 * n, whole).bad, -1) << whole;
+    }
   }
 }
 
-// A NaN or an infinity in the block is reported at its pivot, not factored into L.
+// A NaN or an infinity in the block is reported at its pivot (off the diagonal, at its row's),
+// not factored into L, by the panels and by the whole block's Cholesky alike.
 TEST(Dense, NonFinitePivotIsReported) {
   const int n = 2 * dense::kPanel + 5;
   for (int k : {0, 10, dense::kPanel + 2}) {
@@ -136,6 +141,11 @@ TEST(Dense, NonFinitePivotIsReported) {
       Matrix a = spd(n, 3);
       a(k, k) = bad;
       EXPECT_EQ(factor(a).bad, k) << bad;
+      EXPECT_EQ(factor(a, 1e-300, /*whole=*/true).bad, k) << bad;
+      a(k, k) = n;  // off the diagonal, it poisons the pivot of its row
+      a(n - 1, k) = a(k, n - 1) = bad;
+      EXPECT_EQ(factor(a).bad, n - 1) << bad;
+      EXPECT_EQ(factor(a, 1e-300, /*whole=*/true).bad, n - 1) << bad;
     }
   }
 }
@@ -172,9 +182,10 @@ TEST(Dense, SupernodeGivesLYAndTheSchurUpdate) {
     }
     EXPECT_LE((l * dm * l.transpose() - a).norm() / a.norm(), 1e-14 * d);
     if (k.definite && d <= dense::kWholeCholeskyMaxRows) {
-      Matrix lc = a;
+      Matrix lc = a.triangularView<Eigen::Lower>();  // (a's lower triangle, as factor_supernode reads it)
+      lc.triangularView<Eigen::StrictlyUpper>() = lc.transpose();
       int info = 0;
-      dpotrf_("L", &d, lc.data(), &d, &info);  // (A symmetric: the same block whichever triangle)
+      dpotrf_("L", &d, lc.data(), &d, &info);
       ASSERT_EQ(info, 0);
       for (int j = 0; j < d; ++j) EXPECT_EQ(dm(j, j), lc(j, j) * lc(j, j)) << j;
     }
