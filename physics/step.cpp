@@ -573,7 +573,8 @@ double Simulation::contact_rows(bool velocity, bool with_jacobian) {
       worst = std::max(worst, position_row(kn, separation(con, a, ra, b, rb)));
       continue;
     }
-    const ConstraintRows rows = evaluate(con, a, ra, b, rb);
+    ContactRows rows;
+    evaluate(con, a, ra, b, rb, &rows);
     const int ca = column_[con.body_a], cb = column_[con.body_b];
     for (int r = 0; r < 3 && with_jacobian; ++r) {
       const double* j = rows.jacobian.data() + 12 * r;
