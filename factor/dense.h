@@ -17,10 +17,9 @@ namespace ldlpgs::dense {
 inline constexpr int kPanel = 64;
 inline constexpr int kRowPanel = 128;
 // Node blocks up to this many rows try LAPACK's Cholesky of the whole block (factor_supernode);
-// wider ones go by panels. Measured faster at 260 rows and slower at 976 (the two transposed
-// copies of a block that outgrows the cache); 384 lies between, not tuned (papers/factor.md,
-// "Dense fronts").
-inline constexpr int kWholeCholeskyMaxRows = 384;
+// wider ones go by panels. The whole block measured faster from 260 to 787 rows, level with the
+// panels at 976 (papers/factor.md, "Dense fronts").
+inline constexpr int kWholeCholeskyMaxRows = 800;
 
 // LDL^T without pivoting of the n x n row-major block a (lower triangle, row stride ld), in
 // place, as kernels::ldl_node: unit-lower L below the diagonal, D on it, inv_d = 1 / D, floor[j]
