@@ -78,15 +78,21 @@ int ldl_unblocked(double* a, int n, int ld, const double* floor, double* inv_d) 
   return -1;
 }
 
+// The pivots of Cholesky's Lc (b columns, row stride ld): D_j = Lc_jj^2 onto the diagonal,
+// inv_d = 1 / D, and w[j] = 1 / Lc_jj, the scale that turns column j of Lc into unit L's.
+void cholesky_pivots(double* a, int b, int ld, double* inv_d, double* w) {
+  for (int j = 0; j < b; ++j) {
+    const double l = a[static_cast<int64_t>(j) * ld + j];
+    w[j] = 1.0 / l;
+    a[static_cast<int64_t>(j) * ld + j] = l * l;
+    inv_d[j] = w[j] * w[j];
+  }
+}
+
 // Cholesky's Lc (b columns; b x b block a11 and the m rows below it, row stride ld) to unit L
 // and D = diag(Lc)^2: column j of Lc divided by Lc_jj. w: b doubles of scratch.
 void to_unit_ldl(double* a11, int b, int m, int ld, double* inv_d, double* w) {
-  for (int j = 0; j < b; ++j) {
-    const double l = a11[static_cast<int64_t>(j) * ld + j];
-    w[j] = 1.0 / l;
-    a11[static_cast<int64_t>(j) * ld + j] = l * l;
-    inv_d[j] = w[j] * w[j];
-  }
+  cholesky_pivots(a11, b, ld, inv_d, w);
   for (int i = 1; i < b + m; ++i) {
     double* ai = a11 + static_cast<int64_t>(i) * ld;
     const int cols = std::min(i, b);
@@ -216,12 +222,7 @@ int factor_supernode(double* node, int d, int h, const double* floor, double* in
     dsyrk_("U", "T", &h, &d, &one, e, &d, &zero, c, &h);         // C = X X^T, lower triangle
   }
   // To unit L (from the upper triangle), D and Y = X diag(Lc)^-1.
-  for (int j = 0; j < d; ++j) {
-    const double l = node[static_cast<int64_t>(j) * d + j];
-    w[j] = 1.0 / l;
-    node[static_cast<int64_t>(j) * d + j] = l * l;
-    inv_d[j] = w[j] * w[j];
-  }
+  cholesky_pivots(node, d, d, inv_d, w);
   scaled_to_lower(node, d, d, w);
   for (int64_t i = 0; i < h; ++i)
     for (int j = 0; j < d; ++j) e[i * d + j] *= w[j];
