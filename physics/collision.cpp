@@ -79,8 +79,7 @@ dGeomID make_geom(dSpaceID space, const Shape& s) {
 }
 
 // The geom at its body's current pose, inflated by `margin`: world pose = body pose * shape pose;
-// a plane as n . x = n . p in the world (ODE's planes are not placeable; a static body's margin
-// is 0).
+// a plane as n . x = n . p + margin in the world (ODE's planes are not placeable).
 void place(dGeomID g, const Shape& s, const RigidBody& body, double margin) {
   switch (s.type) {
     case ShapeType::plane: break;
@@ -94,7 +93,7 @@ void place(dGeomID g, const Shape& s, const RigidBody& body, double margin) {
   }
   if (s.type == ShapeType::plane) {
     const Eigen::Vector3d n = (body.orientation * s.normal).normalized();
-    dGeomPlaneSetParams(g, n.x(), n.y(), n.z(), n.dot(body.to_world(s.position)));
+    dGeomPlaneSetParams(g, n.x(), n.y(), n.z(), n.dot(body.to_world(s.position)) + margin);
     return;
   }
   const Eigen::Vector3d p = body.to_world(s.position);
@@ -203,14 +202,17 @@ void CollisionWorld::detect(const Mechanism& m, double margin, double horizon, s
   Geometry& g = *geometry_;
   out->clear();
   if (g.geoms.empty()) return;
-  // what a body's points can travel in the horizon: |v| + |w| reach, plus gravity's |g| horizon
+  // A dynamic body's shapes grow by what its points travel in the horizon at its velocities
+  // (|v| + |w| reach) and a static body's by what gravity's pull adds to that (|g| horizon^2):
+  // every dynamic body falls alike, so gravity closes no gap between two of them. At most 100 m:
+  // a body that fast is found by its motion's next steps anyway, and a geom inflated beyond its
+  // world would only gather every pair (NaN: the most).
+  const auto capped = [](double inflation) { return inflation < kMaxMargin ? inflation : kMaxMargin; };
+  const double fall = m.gravity.norm() * horizon * horizon;
   for (size_t b = 0; b < m.bodies.size(); ++b) {
     const RigidBody& body = m.bodies[b];
-    const double speed = body.linear_velocity.norm() + body.angular_velocity.norm() * g.reach[b] + m.gravity.norm() * horizon;
-    // (at most 100 m: a body that fast is found by its motion's next steps anyway, and a geom
-    // inflated beyond its world would only gather every pair)
-    const double inflation = margin + speed * horizon;
-    g.margin[b] = body.is_static ? 0 : inflation < kMaxMargin ? inflation : kMaxMargin;  // (NaN: the most)
+    const double speed = body.linear_velocity.norm() + body.angular_velocity.norm() * g.reach[b];
+    g.margin[b] = capped(body.is_static ? fall : margin + speed * horizon);
   }
   for (size_t i = 0; i < g.geoms.size(); ++i) {
     const RigidBody& body = m.bodies[g.owners[i].body];

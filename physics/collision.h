@@ -38,9 +38,11 @@ class CollisionWorld {
 
   // The contact points at the bodies' current poses into `out` (cleared first; its storage is
   // reused, so a step allocates nothing once the largest count has been seen): the pairs that
-  // touch, and those whose gap is below `margin` (m) plus what each body's points can travel in
-  // `horizon` (s) at its current velocities and gravity's pull (speculative contacts, Catto's:
-  // a fast body is stopped at the surface instead of being found inside it a step late).
+  // touch, and those whose gap the two bodies can close in `horizon` (s): each dynamic body
+  // reaches `margin` (m) plus what its points travel at its current velocities, a static one what
+  // gravity's pull adds to a dynamic body's travel (speculative contacts, Catto's: a fast body is
+  // stopped at the surface instead of being found inside it a step late). Gravity moves two
+  // dynamic bodies alike, so resting neighbours a gap apart are no contact.
   void detect(const Mechanism& mechanism, double margin, double horizon, std::vector<ContactPoint>* out);
   bool empty() const;  // no shapes at all
 

@@ -21,9 +21,11 @@ struct ContactOptions {
   // Penetration left in place (m): the position correction stops there, so that a resting
   // contact keeps touching and is found again next step (Box2D's linear slop).
   double slop = 0.005;
-  // Speculative contacts: pairs closer than this (m), plus what their points travel in a step,
-  // become contacts whose normal row lets the gap close and no more (collision.h).
-  double margin = 0.01;
+  // Speculative contacts: pairs closer than what their points travel in a step, plus this
+  // distance (m) for each dynamic body, become contacts whose normal row lets the gap close and
+  // no more (collision.h). 0: motion alone decides, so a resting neighbour a gap away costs no
+  // rows (papers/physics.md, "Speculative margin").
+  double margin = 0;
   // Velocity-level correction of the penetration beyond the slop, a fraction per step
   // (Baumgarte), at most max_correction_speed (m/s); the post-stabilization removes the rest
   // without adding velocity (papers/physics.md, "Contacts").

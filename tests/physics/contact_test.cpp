@@ -98,6 +98,36 @@ TEST(Collision, SpeculativeContactsReportTheGapWithinTheMargin) {
   EXPECT_LE(points[0].position.y(), 0.05);
 }
 
+// Gravity's pull in the horizon reaches a static body's gap (the box 1 mm above the ground is a
+// speculative contact) but no gap between two dynamic bodies, which it moves alike: the two boxes
+// at rest 1 mm apart are none until they approach.
+TEST(Collision, GravityClosesGapsToStaticBodiesOnly) {
+  Mechanism m;
+  add(&m, "ground", true, Vector3d::Zero(), plane_shape());
+  const int left = add(&m, "left", false, Vector3d(-0.5005, 0.501, 0), box_shape(Vector3d(0.5, 0.5, 0.5)));
+  const int right = add(&m, "right", false, Vector3d(0.5005, 0.501, 0), box_shape(Vector3d(0.5, 0.5, 0.5)));
+  const double horizon = 1.0 / 60;  // falls |g| horizon^2 = 2.7 mm
+  CollisionWorld world(m);
+  std::vector<ContactPoint> points;
+  world.detect(m, 0, horizon, &points);
+  ASSERT_EQ(points.size(), 8u);
+  for (const ContactPoint& p : points) {
+    EXPECT_EQ(p.body_a, 0);  // the ground
+    EXPECT_NEAR(p.depth, -0.001, 1e-12);
+  }
+  m.bodies[left].linear_velocity = Vector3d(0.04, 0, 0);  // closes 0.67 mm in the horizon: not yet
+  world.detect(m, 0, horizon, &points);
+  EXPECT_EQ(points.size(), 8u);
+  m.bodies[right].linear_velocity = Vector3d(-0.04, 0, 0);  // together 1.33 mm: reached
+  world.detect(m, 0, horizon, &points);
+  ASSERT_GT(points.size(), 8u);
+  for (const ContactPoint& p : points)
+    if (p.body_a == left) {
+      EXPECT_EQ(p.body_b, right);
+      EXPECT_NEAR(p.depth, -0.001, 1e-12);
+    }
+}
+
 TEST(Collision, BoxOnAPlaneGetsItsFourCorners) {
   Mechanism m;
   add(&m, "ground", true, Vector3d::Zero(), plane_shape());
