@@ -327,6 +327,33 @@ TEST(Solver, FrictionOnTheDiskIsTheConstrainedMinimizer) {
   }
 }
 
+// disk_minimizer on K of every orientation of its eigenvectors (k11 above, equal to and below
+// k22; k12 negative, zero and positive) with the minimizer inside and outside the disk, against
+// the KKT point (K + nu I) x = -b, |x| = r, nu found by bisection on the monotone |x(nu)|.
+TEST(Solver, DiskMinimizerIsTheKktPointForEveryOrientationOfK) {
+  for (double k11 : {0.5, 2.0, 3.0})
+    for (double k12 : {-0.7, 0.0, 0.7})
+      for (double radius : {0.05, 10.0}) {
+        const double k22 = 2;
+        const Eigen::Matrix2d k{{k11, k12}, {k12, k22}};
+        const double b[2] = {1.0, -0.4};
+        const auto x_of = [&](double nu) {
+          return (k + nu * Eigen::Matrix2d::Identity()).ldlt().solve(-Eigen::Vector2d(b[0], b[1])).eval();
+        };
+        Eigen::Vector2d expected = x_of(0);
+        if (expected.norm() > radius) {
+          double low = 0, high = 1;
+          while (x_of(high).norm() > radius) high *= 2;
+          for (int i = 0; i < 200; ++i) (x_of(0.5 * (low + high)).norm() > radius ? low : high) = 0.5 * (low + high);
+          expected = x_of(high);
+        }
+        double x[2];
+        disk_minimizer(k11, k12, k22, b, radius, x);
+        EXPECT_LT(std::hypot(x[0] - expected(0), x[1] - expected(1)), 1e-12 * std::max(1.0, expected.norm()))
+            << "k11 " << k11 << " k12 " << k12 << " radius " << radius;
+      }
+}
+
 // Contact points in manifolds of 1-5 points on random pairs of 14 columns (a quarter against a
 // static body), among joint blocks, pyramid-friction points and a factored point (swept row by
 // row), with normal impulses at zero, inside and on the rim of their disks: three sweeps in lanes
