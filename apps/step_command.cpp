@@ -42,6 +42,7 @@ struct StepArgs {
   int factor_contacts_after = ContactOptions{}.factor_after;
   int position_schur_after = ContactOptions{}.position_schur_after;
   double factor_contacts_mass_ratio = ContactOptions{}.factor_mass_ratio;
+  double contact_margin_m = ContactOptions{}.margin;
   std::string schedule = to_string(SolverOptions{}.schedule);
   int iterations = 10, steps = 200, post_stabilize = StepOptions{}.post_stabilize;
   bool post_stabilize_refactor = false, post_stabilize_own_factor = false, curvature_target = false;
@@ -90,6 +91,7 @@ StepOptions step_options(const StepArgs& a) {
   o.contacts.friction_pyramid = a.friction_cone == "pyramid";
   o.contacts.factor_after = a.factor_contacts_after;
   o.contacts.factor_mass_ratio = a.factor_contacts_mass_ratio;
+  o.contacts.margin = a.contact_margin_m;
   o.contacts.position_schur_after = a.position_schur_after;
   o.contacts.implicit_gyroscopic = a.implicit_gyroscopic;
   o.contacts.schedule = schedule_option("--contact-schedule", a.contact_schedule);
@@ -465,6 +467,11 @@ void add_step_options(CLI::App* cmd, StepArgs* a) {
                   "ldl-pgs: ... only those of a body touching a body this many times heavier (0: every one)")
       ->capture_default_str()
       ->check(finite_in(0, 1e12));
+  cmd->add_option("--contact-margin-m", a->contact_margin_m,
+                  "Speculative contacts: each dynamic body's shapes reach this far (m) beyond what their points travel in "
+                  "a step (0: their motion alone)")
+      ->capture_default_str()
+      ->check(finite_in(0, 1));
   cmd->add_option("--position-schur-after", a->position_schur_after,
                   "block-gs on steps with contacts: the post-stabilization's contact rows' Schur complement takes over "
                   "from block iterations that have not converged after this many, with at most 100 contact points (0: never)")

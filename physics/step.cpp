@@ -276,6 +276,8 @@ Simulation::Simulation(Mechanism mechanism, const StepOptions& options)
   options_.post_stabilize = post_stabilize_iterations(options);
   if (options_.post_stabilize < 0 || options.post_stabilize_sweeps < 1 || !(options.post_stabilize_tolerance >= 0))
     throw InputError("post-stabilization: iterations >= 0, sweeps >= 1 and a tolerance >= 0 are required");
+  if (!(options.contacts.margin >= 0 && options.contacts.margin <= 1))
+    throw InputError("contacts: the margin must be in [0, 1] m, not " + std::to_string(options.contacts.margin));
   make_projector();
 }
 

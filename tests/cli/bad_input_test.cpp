@@ -104,6 +104,10 @@ TEST(LdlpgsBadInput, FactorContactsAfterNegative) {
   expect_input_error("step box-stack-1000 --position-schur-after -1", {"--position-schur-after"});
 }
 
+TEST(LdlpgsBadInput, ContactMarginOutOfRange) {
+  for (const char* m : {"-0.01", "nan", "2"}) expect_input_error(std::string("step pyramid-10 --contact-margin-m ") + m, {"--contact-margin-m"});
+}
+
 // nan, inf and 1e308 had run one step each and said "failed: energy" with exit 0.
 TEST(LdlpgsBadInput, SweepSecondsOutOfRange) {
   for (const char* s : {"nan", "0", "1e308"}) expect_input_error(std::string("sweep --cases chain-10 --seconds ") + s, {"--seconds"});

@@ -503,5 +503,16 @@ TEST(ContactStep, AddShapeChecksTheShapeAndTheSolver) {
   EXPECT_THROW(Simulation(sim.mechanism(), direct), InputError);
 }
 
+TEST(ContactStep, SimulationRefusesAMarginOutsideZeroToOneMetre) {
+  for (double margin : {-0.01, std::nan(""), 2.0}) {
+    StepOptions o;
+    o.contacts.margin = margin;
+    EXPECT_THROW(Simulation(scene("box-stack-1000"), o), InputError) << margin;
+  }
+  StepOptions o;
+  o.contacts.margin = 0.02;  // Box2D's and Jolt's speculative distance
+  EXPECT_NO_THROW(Simulation(scene("box-stack-1000"), o));
+}
+
 }  // namespace
 }  // namespace ldlpgs
