@@ -26,14 +26,13 @@ namespace ldlpgs::dense {
 
 namespace {
 
-// The row-major unit-lower L of a node block (row stride ld) is, to BLAS, the unit-upper U = L^T.
-// For a row-major m x n matrix X (stride ld), BLAS's X' = X^T (n x m):
-//   X L^-T  is  (L^-1 X')^T = (U^-T X')^T: dtrsm(Left, Upper, Trans, Unit)
-//   X L^-1  is  (L^-T X')^T = (U^-1 X')^T: dtrsm(Left, Upper, NoTrans, Unit)
-void solve_rows(const char* trans, const double* node, int n, int ld_node, double* x, int m, int ld_x) {
+// A node block here is column-major lower (dense.h): entry (i, j), i >= j, at a[j * ld + i],
+// LAPACK's "L". For a row-major m x n matrix X (stride ld_x), BLAS's X' = X^T (n x m), so
+//   X L^-T  is  (L^-1 X')^T: dtrsm(Left, Lower, NoTrans, diag).
+void solve_rows(const char* diag, const double* node, int n, int ld_node, double* x, int m, int ld_x) {
   if (m == 0 || n == 0) return;
   const double one = 1;
-  dtrsm_("L", "U", trans, "U", &n, &m, &one, node, &ld_node, x, &ld_x);
+  dtrsm_("L", "L", "N", diag, &n, &m, &one, node, &ld_node, x, &ld_x);
 }
 
 // C[i0:i1, 0:i1] (+)= alpha A[i0:i1, :] B[0:i1, :]^T for the row panels [i0, i1) of the h x h
@@ -52,33 +51,32 @@ void lower_gemm(double alpha, const double* a, int lda, const double* b, int ldb
 // Pivot d counts as zero at or below its floor, or when not finite (kernels::zero_pivot's test).
 bool zero_pivot(double d, double floor) { return !(std::abs(d) > floor) || !std::isfinite(d); }
 
-// The lower triangle of the b x b block src (row stride ld_src) into dst (row stride ld_dst).
+// The lower triangle of the b x b column-major block src (leading dimension ld_src) into dst.
 void copy_lower(const double* src, int ld_src, double* dst, int ld_dst, int b) {
-  for (int i = 0; i < b; ++i)
-    std::copy_n(src + static_cast<int64_t>(i) * ld_src, i + 1, dst + static_cast<int64_t>(i) * ld_dst);
+  for (int j = 0; j < b; ++j)
+    std::copy_n(src + static_cast<int64_t>(j) * ld_src + j, b - j, dst + static_cast<int64_t>(j) * ld_dst + j);
 }
 
-// kernels::ldl_node's triple loop with a row stride: one panel's diagonal block.
+// kernels::ldl_node's elimination on a column-major block: one panel's diagonal block. Column j
+// is finished left-looking (its pivot, then each row below minus the earlier columns' products).
 int ldl_unblocked(double* a, int n, int ld, const double* floor, double* inv_d) {
   for (int j = 0; j < n; ++j) {
     double* aj = a + static_cast<int64_t>(j) * ld;
-    double d = aj[j];
-    for (int k = 0; k < j; ++k) d -= aj[k] * aj[k] * a[static_cast<int64_t>(k) * ld + k];
-    aj[j] = d;
+    for (int k = 0; k < j; ++k) {
+      const double* ak = a + static_cast<int64_t>(k) * ld;
+      const double f = ak[j] * ak[k];  // L_jk D_k
+      for (int i = j; i < n; ++i) aj[i] -= ak[i] * f;
+    }
+    const double d = aj[j];
     if (zero_pivot(d, floor[j])) return j;
     const double inv = 1.0 / d;
     inv_d[j] = inv;
-    for (int i = j + 1; i < n; ++i) {
-      double* ai = a + static_cast<int64_t>(i) * ld;
-      double s = ai[j];
-      for (int k = 0; k < j; ++k) s -= ai[k] * aj[k] * a[static_cast<int64_t>(k) * ld + k];
-      ai[j] = s * inv;
-    }
+    for (int i = j + 1; i < n; ++i) aj[i] *= inv;
   }
   return -1;
 }
 
-// The pivots of Cholesky's Lc (b columns, row stride ld): D_j = Lc_jj^2 onto the diagonal,
+// The pivots of Cholesky's Lc (b columns, leading dimension ld): D_j = Lc_jj^2 onto the diagonal,
 // inv_d = 1 / D, and w[j] = 1 / Lc_jj, the scale that turns column j of Lc into unit L's.
 void cholesky_pivots(double* a, int b, int ld, double* inv_d, double* w) {
   for (int j = 0; j < b; ++j) {
@@ -89,14 +87,13 @@ void cholesky_pivots(double* a, int b, int ld, double* inv_d, double* w) {
   }
 }
 
-// Cholesky's Lc (b columns; b x b block a11 and the m rows below it, row stride ld) to unit L
-// and D = diag(Lc)^2: column j of Lc divided by Lc_jj. w: b doubles of scratch.
+// Cholesky's Lc (b columns of b + m rows from the diagonal, leading dimension ld) to unit L and
+// D = diag(Lc)^2: column j of Lc divided by Lc_jj, a contiguous scaling. w: b doubles of scratch.
 void to_unit_ldl(double* a11, int b, int m, int ld, double* inv_d, double* w) {
   cholesky_pivots(a11, b, ld, inv_d, w);
-  for (int i = 1; i < b + m; ++i) {
-    double* ai = a11 + static_cast<int64_t>(i) * ld;
-    const int cols = std::min(i, b);
-    for (int j = 0; j < cols; ++j) ai[j] *= w[j];
+  for (int j = 0; j < b; ++j) {
+    double* aj = a11 + static_cast<int64_t>(j) * ld;
+    for (int i = j + 1; i < b + m; ++i) aj[i] *= w[j];
   }
 }
 
@@ -109,108 +106,109 @@ bool pivots_above_floor(const double* a, int n, int ld, const double* floor) {
   return true;
 }
 
-// The strictly lower triangle of the n x n block a (row stride ld) copied to the strictly upper
-// one, by 32 x 32 tiles. scaled_to_lower is the way back, column j scaled by scale[j]:
-// lower(i, j) = upper(j, i) * scale[j].
-constexpr int kTile = 32;
-void mirror_to_upper(double* a, int n, int ld) {
-  for (int i0 = 0; i0 < n; i0 += kTile)
-    for (int j0 = 0; j0 <= i0; j0 += kTile)
-      for (int i = i0; i < std::min(n, i0 + kTile); ++i)
-        for (int j = j0; j < std::min(i, j0 + kTile); ++j)
-          a[static_cast<int64_t>(j) * ld + i] = a[static_cast<int64_t>(i) * ld + j];
-}
-void scaled_to_lower(double* a, int n, int ld, const double* scale) {
-  for (int i0 = 0; i0 < n; i0 += kTile)
-    for (int j0 = 0; j0 <= i0; j0 += kTile)
-      for (int i = i0; i < std::min(n, i0 + kTile); ++i)
-        for (int j = j0; j < std::min(i, j0 + kTile); ++j)
-          a[static_cast<int64_t>(i) * ld + j] = a[static_cast<int64_t>(j) * ld + i] * scale[j];
-}
-
-// The whole n x n block by one dpotrf, as CHOLMOD factors a supernode. LAPACK's blocked Cholesky
-// sweeps the trailing matrix less than our 64-column panels, and OpenBLAS's lower-triangle dpotrf
-// is faster than its upper one (papers/factor.md, "Dense fronts"): so the lower triangle is
-// copied to the upper one (row-major upper = BLAS's lower) and factored there, Lc^T in the upper
-// triangle, the block's lower triangle left as it was. Returns false, with the diagonal restored
-// from w (n doubles), where the block is not positive definite with every pivot above its floor.
-bool cholesky_upper(double* a, int n, int ld, const double* floor, double* w) {
-  for (int i = 0; i < n; ++i) {
-    w[i] = a[static_cast<int64_t>(i) * ld + i];
-    if (!(w[i] > floor[i])) return false;  // (not positive definite: no copy, no dpotrf)
-  }
-  mirror_to_upper(a, n, ld);
-  int info = 0;
-  dpotrf_("L", &n, a, &ld, &info);
-  if (info == 0 && pivots_above_floor(a, n, ld, floor)) return true;
-  for (int i = 0; i < n; ++i) a[static_cast<int64_t>(i) * ld + i] = w[i];
-  return false;
-}
-
-}  // namespace
-
-// A panel's diagonal block b x b (row stride ld) by LAPACK's Cholesky, A11 = Lc Lc^T, when it is
-// positive definite with every pivot D_j = Lc_jj^2 above its floor; then the m x b rows below,
+// A panel's diagonal block b x b (leading dimension ld) by LAPACK's Cholesky, A11 = Lc Lc^T, when
+// it is positive definite with every pivot D_j = Lc_jj^2 above its floor; then the m rows below,
 // R = A21, become X = R Lc^-T (dtrsm, non-unit) and the trailing matrix A22 -= X X^T (dsyrk,
 // lower triangle only), which is A22 - L21 D L21^T with L = Lc diag(Lc)^-1, D = diag(Lc)^2: the
-// same Schur complement as the LDL^T panel, so the two kinds of panel mix freely. Returns false,
-// with A11 restored from the copy in w (b * b doubles), where dpotrf stops (a pivot <= 0: the
-// block is indefinite or singular) or a pivot is at or below its floor; the caller then runs the
-// LDL^T panel, which finds the same pivot or factors an indefinite block.
-bool cholesky_panel(double* a11, int b, int m, int ld, const double* floor, double* inv_d, double* w) {
+// same Schur complement as the LDL^T panel, so the two kinds of panel mix freely. Lc and X are
+// left unscaled (to_unit_ldl). Returns false, with A11 restored from the copy in w (b * b
+// doubles), where dpotrf stops (a pivot <= 0: the block is indefinite or singular) or a pivot is
+// at or below its floor; the caller then runs the LDL^T panel, which finds the same pivot or
+// factors an indefinite block.
+bool cholesky_panel(double* a11, int b, int m, int ld, const double* floor, double* w) {
   copy_lower(a11, ld, w, b, b);
   int info = 0;
-  dpotrf_("U", &b, a11, &ld, &info);  // row-major lower Lc = BLAS's upper U = Lc^T
+  dpotrf_("L", &b, a11, &ld, &info);
   if (info != 0 || !pivots_above_floor(a11, b, ld, floor)) {
     copy_lower(w, b, a11, ld, b);
     return false;
   }
-  double* r = a11 + static_cast<int64_t>(b) * ld;
   if (m > 0) {
     const double one = 1, minus_one = -1;
-    dtrsm_("L", "U", "T", "N", &b, &m, &one, a11, &ld, r, &ld);           // X = R Lc^-T
-    dsyrk_("U", "T", &m, &b, &minus_one, r, &ld, &one, r + b, &ld);         // A22 -= X X^T
+    double* r = a11 + b;
+    dtrsm_("R", "L", "T", "N", &m, &b, &one, a11, &ld, r, &ld);                                // X = R Lc^-T
+    dsyrk_("L", "N", &m, &b, &minus_one, r, &ld, &one, a11 + static_cast<int64_t>(b) * ld + b, &ld);  // A22 -= X X^T
   }
-  to_unit_ldl(a11, b, m, ld, inv_d, w);
   return true;
 }
 
 // Right-looking by panels of kPanel columns [j0, j1): a positive definite panel by
 // cholesky_panel; otherwise factor the diagonal block by the triple loop; below it R = A21
-// becomes W = R L11^-T (kept in w) and L21 = W D1^-1 (over R), since A21 = L21 D1 L11^T; then
-// A22 -= W L21^T, lower triangle, with dgemm. Same arithmetic as the unblocked loop up to the
-// order of the sums (and, in Cholesky panels, the square roots).
-int ldl_blocked(double* a, int n, int ld, const double* floor, double* inv_d, double* w) {
+// becomes W = R L11^-T (kept in w, m x b column-major) and L21 = W D1^-1 (over R), since A21 =
+// L21 D1 L11^T; then A22 -= W L21^T, lower triangle, with dgemm by column panels. Same arithmetic
+// as the unblocked loop up to the order of the sums (and, in Cholesky panels, the square roots).
+// The leading Cholesky panels stay Lc (their count of columns in `cholesky`: n when the block is
+// positive definite), so that factor_supernode can go on with Lc as LAPACK would; a Cholesky
+// panel after an LDL^T one is made unit at once. Returns the first bad pivot or -1.
+int panels(double* a, int n, int ld, const double* floor, double* inv_d, double* w, int& cholesky) {
+  cholesky = 0;
   for (int j0 = 0; j0 < n; j0 += kPanel) {
     const int b = std::min(kPanel, n - j0), m = n - j0 - b;
     double* a11 = a + static_cast<int64_t>(j0) * ld + j0;
-    if (cholesky_panel(a11, b, m, ld, floor + j0, inv_d + j0, w)) continue;
+    if (cholesky_panel(a11, b, m, ld, floor + j0, w)) {
+      if (cholesky == j0)
+        cholesky += b;
+      else
+        to_unit_ldl(a11, b, m, ld, inv_d + j0, w);
+      continue;
+    }
     const int bad = ldl_unblocked(a11, b, ld, floor + j0, inv_d + j0);
     if (bad >= 0) return j0 + bad;
     if (m == 0) break;
-    double* r = a11 + static_cast<int64_t>(b) * ld;  // A21: m x b, stride ld
-    solve_rows("T", a11, b, ld, r, m, ld);
-    for (int i = 0; i < m; ++i) {
-      double* ri = r + static_cast<int64_t>(i) * ld;
-      double* wi = w + static_cast<int64_t>(i) * b;
-      for (int c = 0; c < b; ++c) {
-        wi[c] = ri[c];
-        ri[c] *= inv_d[j0 + c];
+    double* r = a11 + b;  // A21: m x b, leading dimension ld
+    const double one = 1, minus_one = -1;
+    dtrsm_("R", "L", "T", "U", &m, &b, &one, a11, &ld, r, &ld);  // W = R L11^-T
+    for (int c = 0; c < b; ++c) {
+      double* rc = r + static_cast<int64_t>(c) * ld;
+      double* wc = w + static_cast<int64_t>(c) * m;
+      for (int i = 0; i < m; ++i) {
+        wc[i] = rc[i];
+        rc[i] *= inv_d[j0 + c];
       }
     }
-    lower_gemm(-1, w, b, r, ld, m, b, 1, r + b, ld);
+    // A22[i0:, i0:i1] -= W[i0:, :] L21[i0:i1, :]^T by column panels (the lower triangle and, in
+    // each diagonal panel, the upper one's products too, never read).
+    double* a22 = r + static_cast<int64_t>(b) * ld;
+    for (int i0 = 0; i0 < m; i0 += kRowPanel) {
+      const int cols = std::min(kRowPanel, m - i0), rows = m - i0;
+      dgemm_("N", "T", &rows, &cols, &b, &minus_one, w + i0, &m, r + i0, &ld, &one,
+             a22 + static_cast<int64_t>(i0) * ld + i0, &ld);
+    }
   }
   return -1;
 }
 
-// A positive definite node block as CHOLMOD does a supernode: Lc by one dpotrf, X = E Lc^-T by
-// dtrsm, C = X X^T by dsyrk, then Lc and X rescaled to L and Y = X diag(Lc)^-1 (E = Y D L^T with
-// D = diag(Lc)^2, and C = Y D Y^T = W Y^T). Any other: by panels, then begin_l and lower_product.
+}  // namespace
+
+// Children's updates (kernels.h, row-major lower) over the node's strictly upper column-major
+// triangle, added into its column-major lower one, by 32 x 32 tiles: a(i, j) += a'(j, i).
+void fold_updates(double* node, int d) {
+  constexpr int kTile = 32;
+  for (int j0 = 0; j0 < d; j0 += kTile)
+    for (int i0 = j0; i0 < d; i0 += kTile)
+      for (int j = j0; j < std::min(d, j0 + kTile); ++j)
+        for (int i = std::max(i0, j + 1); i < std::min(d, i0 + kTile); ++i)
+          node[static_cast<int64_t>(j) * d + i] += node[static_cast<int64_t>(i) * d + j];
+}
+
+int ldl_blocked(double* a, int n, int ld, const double* floor, double* inv_d, double* w) {
+  int cholesky = 0;
+  const int bad = panels(a, n, ld, floor, inv_d, w, cholesky);
+  to_unit_ldl(a, cholesky, n - cholesky, ld, inv_d, w);
+  return bad;
+}
+
+// A positive definite node block as CHOLMOD does a supernode: Lc by panels of LAPACK's Cholesky,
+// X = E Lc^-T by dtrsm, C = X X^T by dsyrk, then Lc and X rescaled to L and Y = X diag(Lc)^-1
+// (E = Y D L^T with D = diag(Lc)^2, and C = Y D Y^T = W Y^T). Any other: unit L from the panels,
+// then begin_l and lower_product.
 int factor_supernode(double* node, int d, int h, const double* floor, double* inv_d, double* w) {
   double* e = node + static_cast<int64_t>(d) * d;
   double* c = w + static_cast<int64_t>(h) * d;
-  if (d > kWholeCholeskyMaxRows || !cholesky_upper(node, d, d, floor, w)) {
-    const int bad = ldl_blocked(node, d, d, floor, inv_d, w);
+  int cholesky = 0;
+  const int bad = panels(node, d, d, floor, inv_d, w, cholesky);
+  if (bad >= 0 || cholesky < d) {
+    to_unit_ldl(node, cholesky, d - cholesky, d, inv_d, w);
     if (bad >= 0) return bad;
     begin_l(e, w, node, inv_d, h, d);
     lower_product(w, e, h, d, c);
@@ -218,19 +216,18 @@ int factor_supernode(double* node, int d, int h, const double* floor, double* in
   }
   if (h > 0) {
     const double one = 1, zero = 0;
-    dtrsm_("L", "L", "N", "N", &d, &h, &one, node, &d, e, &d);  // X = E Lc^-T (BLAS: Lc^-1 E^T)
-    dsyrk_("U", "T", &h, &d, &one, e, &d, &zero, c, &h);         // C = X X^T, lower triangle
+    solve_rows("N", node, d, d, e, h, d);                 // X = E Lc^-T
+    dsyrk_("U", "T", &h, &d, &one, e, &d, &zero, c, &h);  // C = X X^T, row-major lower triangle
   }
-  // To unit L (from the upper triangle), D and Y = X diag(Lc)^-1.
-  cholesky_pivots(node, d, d, inv_d, w);
-  scaled_to_lower(node, d, d, w);
+  // To unit L, D and Y = X diag(Lc)^-1.
+  to_unit_ldl(node, d, 0, d, inv_d, w);
   for (int64_t i = 0; i < h; ++i)
     for (int j = 0; j < d; ++j) e[i * d + j] *= w[j];
   return -1;
 }
 
 void begin_l(double* e, double* w, const double* node, const double* inv_d, int h, int n) {
-  solve_rows("T", node, n, n, e, h, n);
+  solve_rows("U", node, n, n, e, h, n);
   for (int64_t r = 0; r < h; ++r) {
     double* er = e + r * n;
     double* wr = w + r * n;
@@ -245,7 +242,7 @@ void begin_l(double* e, double* w, const double* node, const double* inv_d, int 
 void lower_product(const double* w, const double* y, int h, int n, double* c) { lower_gemm(1, w, n, y, n, h, n, 0, c, h); }
 
 // l (Y, the rows below the node) is h x n row-major: BLAS sees Y^T, n x h, so Y y_t is dgemv('T') and Y^T z is
-// dgemv('N'). The node's unit-lower L is BLAS's unit-upper U = L^T (solve_rows).
+// dgemv('N'). The node's unit-lower L is column-major, BLAS's own "L".
 void forward_column(double* y, const double* yt, const double* l, const int* rows, int h, int n, double* tmp) {
   if (h == 0) return;
   const double one = 1, zero = 0;
@@ -256,12 +253,12 @@ void forward_column(double* y, const double* yt, const double* l, const int* row
 
 void forward_node(const double* node, double* x, int n) {
   const int inc = 1;
-  dtrsv_("U", "T", "U", &n, node, &n, x, &inc);  // x <- L^-1 x
+  dtrsv_("L", "N", "U", &n, node, &n, x, &inc);  // x <- L^-1 x
 }
 
 void backward_node(const double* node, double* x, int n) {
   const int inc = 1;
-  dtrsv_("U", "N", "U", &n, node, &n, x, &inc);  // x <- L^-T x
+  dtrsv_("L", "T", "U", &n, node, &n, x, &inc);  // x <- L^-T x
 }
 
 void backward_column(const double* y, double* yt, const double* l, const int* rows, int h, int n, double* tmp) {

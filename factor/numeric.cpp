@@ -123,6 +123,7 @@ Numeric::Numeric(const Symbolic& symbolic)
     st.r0 = s.supernode_row_start(t);
     st.m = static_cast<int>(s.supernode_edges(t).size());
     st.single = 0;
+    st.fold = 0;
     st.edges = static_cast<int>(edge_targets_.size());
     if (s.supernode_blas(t)) {
       st.kind = s.supernode_mapped(t) ? Kind::blas_mapped : Kind::blas;
@@ -143,6 +144,10 @@ Numeric::Numeric(const Symbolic& symbolic)
       }
     for (int l = 0; l < st.d; ++l) diag_pos_.push_back(static_cast<int32_t>(st.node + int64_t{l} * st.d + l));
   }
+  // A BLAS node block that other supernodes update gathers their sums in its row-major lower
+  // triangle, to be added to its column-major one (dense.h).
+  for (int t = 0; t < s.num_supernodes(); ++t)
+    for (const int b : s.supernode_edges(t)) steps_[s.supernode_of(b)].fold = 1;
   // What load() zeroes: every value the load map misses, but for the upper triangles of node
   // blocks the kernels of kernels.h eliminate (they read and write the lower triangle only).
   std::vector<uint8_t> loaded(values_.size(), 0);
@@ -242,7 +247,8 @@ FactorInfo Numeric::factorize_loaded(const FactorOptions& options) {
     while (s.node_offset(t + 1) <= at) ++t;
     const int64_t d = s.supernode_size(t);
     const int64_t local = at - s.node_offset(t);
-    const int row = local < d * d ? s.supernode_row_start(t) + static_cast<int>(local / d)
+    const int64_t node_row = s.supernode_blas(t) ? local % d : local / d;  // (column-major: dense.h)
+    const int row = local < d * d ? s.supernode_row_start(t) + static_cast<int>(node_row)
                                   : s.column_rows(t)[(local - d * d) / d];
     return refuse_not_finite(s.perm()[row], values_[at]);
   }
@@ -378,6 +384,7 @@ SymmetricCsc Numeric::scalar_ldl() const {
     const double* lb = v + s.column_offset(t);
     const int* rows = s.column_rows(t);
     const bool single = keeps_l(steps_[t]);
+    const int64_t row_step = is_blas(steps_[t]) ? 1 : d, column_step = is_blas(steps_[t]) ? d : 1;  // (dense.h)
     for (int k = s.supernode_begin(t); k < s.supernode_begin(t + 1); ++k) {
       for (const int j : s.edges(k)) in_column[j] = 1;
       in_column[k] = 1;
@@ -387,7 +394,7 @@ SymmetricCsc Numeric::scalar_ldl() const {
         for (int64_t r = c + 1; r < d; ++r) {
           if (!in_column[s.pivot_of_row(r0 + static_cast<int>(r))]) continue;
           l.row_idx.push_back(r0 + static_cast<int>(r));
-          l.values.push_back(node[r * d + c]);
+          l.values.push_back(node[r * row_step + c * column_step]);
         }
         // Below the node the scalar L is Y = L_{*,k} L_kk: stored as it is, but for a fused
         // chain column, which holds L_{*,k} (numeric.h).

@@ -133,7 +133,8 @@ class Numeric {
   std::vector<int> edge_targets_;   // mapped steps' targets and columns (passes::Factor; size their edge blocks)
   std::vector<int> edge_columns_;
   // The values load() must zero: offset and length of each run of entries that no stored entry
-  // of the pattern loads (fill blocks, an E's or a node's zeros, a BLAS node's upper triangle).
+  // of the pattern loads (fill blocks, an E's or a node's zeros, a BLAS node's row-major lower
+  // triangle, where other supernodes' updates gather: dense.h).
   // A per-block node's upper triangle is not among them: nothing reads or writes it, so it stays
   // the zero the constructor put there (zeroing all values was 4 % of chain-300's factorization).
   std::vector<int64_t> zero_runs_;  // (size 2 x runs)

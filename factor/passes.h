@@ -33,6 +33,7 @@ struct Step {
   int d, h, r0, m;       // rows of the node, rows of E, first permuted row, edge blocks
   Kind kind;
   uint8_t single;        // kernels::kSingle index when kind == single
+  uint8_t fold;          // BLAS kinds: other supernodes update the node block (dense::fold_updates)
 };
 // (static: no function here may be shared between the SSE2 and AVX2 objects, kernels.h)
 static inline bool is_blas(const Step& s) { return s.kind == Kind::blas || s.kind == Kind::blas_mapped; }

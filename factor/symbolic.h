@@ -8,7 +8,9 @@
 // edge blocks of its column, fill included, in pivot order), the elements of each block
 // row-major. The edge blocks of a column are then one contiguous h x d row-major matrix E_{*,k}:
 // the reduction reads rows of E and of L as unit-stride vectors of length d, and a column is
-// replaced by L with one copy.
+// replaced by L with one copy. A BLAS supernode's node block (dense.h) is the exception: the
+// load map fills it column-major, LAPACK's lower triangle, and the RSI's updates land in its
+// row-major lower triangle, which the numeric phase adds in before factoring it.
 //
 // Supernodes: where consecutive pivots k, k+1, ... have nested structure (the first edge block
 // of k is k+1 and the rest of k's column is k+1's: struct(k) = {k+1} + struct(k+1), CHOLMOD's

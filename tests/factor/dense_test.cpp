@@ -17,6 +17,7 @@ namespace ldlpgs {
 namespace {
 
 using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using ColumnMajor = Eigen::MatrixXd;  // a node block's layout (dense.h)
 
 struct Result {
   int bad;
@@ -27,7 +28,7 @@ struct Result {
 // By ldl_blocked's panels, or (whole) by factor_supernode as a supernode with no rows below.
 Result factor(const Matrix& a, double floor = 1e-300, bool whole = false) {
   const int n = static_cast<int>(a.rows());
-  Matrix f = a;
+  ColumnMajor f = a;
   f.triangularView<Eigen::StrictlyUpper>().setConstant(std::nan(""));  // only the lower triangle is read
   std::vector<double> floors(n, floor), inv_d(n, 0), w(static_cast<size_t>(n) * dense::kPanel);
   const int bad = whole ? dense::factor_supernode(f.data(), n, 0, floors.data(), inv_d.data(), w.data())
@@ -86,9 +87,9 @@ TEST(Dense, PositiveDefiniteBlocksByCholeskyPanels) {
 TEST(Dense, PositiveDefinitePanelIsLapacksCholesky) {
   const int n = dense::kPanel;
   const Matrix a = spd(n, 11);
-  Matrix lc = a;
+  ColumnMajor lc = a;
   int info = 0;
-  dpotrf_("U", &n, lc.data(), &n, &info);  // row-major lower = column-major upper
+  dpotrf_("L", &n, lc.data(), &n, &info);
   ASSERT_EQ(info, 0);
   const Result r = factor(a);
   ASSERT_EQ(r.bad, -1);
@@ -150,47 +151,70 @@ TEST(Dense, NonFinitePivotIsReported) {
   }
 }
 
+// Other supernodes' updates, written row-major lower (kernels.h) into the node block's other
+// triangle, are added to its column-major lower triangle, diagonal untouched (both layouts share
+// it), across tile edges.
+TEST(Dense, FoldAddsTheRowMajorUpdatesToTheColumnMajorBlock) {
+  for (int d : {1, 31, 32, 70}) {
+    SCOPED_TRACE(d);
+    const Matrix a = Matrix::Random(d, d), u = Matrix::Random(d, d);
+    std::vector<double> block(static_cast<size_t>(d) * d);
+    Eigen::Map<ColumnMajor> node(block.data(), d, d);
+    Eigen::Map<Matrix> updates(block.data(), d, d);
+    node = a.triangularView<Eigen::Lower>();
+    for (int i = 0; i < d; ++i)
+      for (int j = 0; j < i; ++j) updates(i, j) = u(i, j);
+    dense::fold_updates(block.data(), d);
+    for (int j = 0; j < d; ++j) {
+      EXPECT_EQ(node(j, j), a(j, j)) << j;
+      for (int i = j + 1; i < d; ++i) EXPECT_EQ(node(i, j), a(i, j) + u(i, j)) << i << ", " << j;
+    }
+  }
+}
+
 // A supernode (factor_supernode): the node block A (d x d) followed by the h rows E below it.
 // Checked against Eigen: L D L^T = A, Y D L^T = E and C = E A^-1 E^T (the Schur update). A
-// positive definite node up to kWholeCholeskyMaxRows rows is LAPACK's Cholesky of the whole block
-// (D_j exactly the square of dpotrf's Lc_jj); wider or indefinite nodes go by panels.
+// positive definite node of one panel is LAPACK's Cholesky of the whole block (D_j exactly the
+// square of dpotrf's Lc_jj); wider nodes are its panels, indefinite ones the LDL^T loop's.
 TEST(Dense, SupernodeGivesLYAndTheSchurUpdate) {
   struct Case {
     int d, h;
     bool definite;
   };
   for (const Case& k : {Case{20, 7, true}, Case{101, 9, true}, Case{dense::kPanel + 6, 30, false}, Case{dense::kPanel + 6, 0, true},
-                        Case{dense::kWholeCholeskyMaxRows + 3, 5, true}}) {
+                        Case{803, 5, true}}) {
     SCOPED_TRACE(testing::Message() << k.d << " x " << k.h << (k.definite ? " definite" : " indefinite"));
     const int d = k.d, h = k.h;
     std::vector<double> signs(d, 1.0);
     if (!k.definite) signs[d / 2] = -1;
     const Matrix a = k.definite ? spd(d, 5) : dominant(signs, 5);
     Matrix e = Matrix::Random(h, d);
-    Matrix block(d + h, d);
-    block.topRows(d) = a;
-    block.topRows(d).triangularView<Eigen::StrictlyUpper>().setConstant(std::nan(""));
-    block.bottomRows(h) = e;
+    // The node block column-major, E row-major after it (dense.h).
+    std::vector<double> block(static_cast<size_t>(d) * (d + h));
+    Eigen::Map<ColumnMajor> node(block.data(), d, d);
+    Eigen::Map<Matrix> below(block.data() + static_cast<size_t>(d) * d, h, d);
+    node = a;
+    node.triangularView<Eigen::StrictlyUpper>().setConstant(std::nan(""));
+    below = e;
     std::vector<double> floors(d, 1e-300), inv_d(d, 0);
     std::vector<double> w(std::max(static_cast<size_t>(h) * d + static_cast<size_t>(h) * h, static_cast<size_t>(d) * dense::kPanel));
     ASSERT_EQ(dense::factor_supernode(block.data(), d, h, floors.data(), inv_d.data(), w.data()), -1);
     Matrix l = Matrix::Identity(d, d), dm = Matrix::Zero(d, d);
     for (int i = 0; i < d; ++i) {
-      for (int j = 0; j < i; ++j) l(i, j) = block(i, j);
-      dm(i, i) = block(i, i);
+      for (int j = 0; j < i; ++j) l(i, j) = node(i, j);
+      dm(i, i) = node(i, i);
       EXPECT_DOUBLE_EQ(inv_d[i] * dm(i, i), 1.0) << i;
     }
     EXPECT_LE((l * dm * l.transpose() - a).norm() / a.norm(), 1e-14 * d);
-    if (k.definite && d <= dense::kWholeCholeskyMaxRows) {
-      Matrix lc = a.triangularView<Eigen::Lower>();  // (a's lower triangle, as factor_supernode reads it)
-      lc.triangularView<Eigen::StrictlyUpper>() = lc.transpose();
+    if (k.definite && d <= dense::kPanel) {
+      ColumnMajor lc = a;
       int info = 0;
       dpotrf_("L", &d, lc.data(), &d, &info);
       ASSERT_EQ(info, 0);
       for (int j = 0; j < d; ++j) EXPECT_EQ(dm(j, j), lc(j, j) * lc(j, j)) << j;
     }
     if (h == 0) continue;
-    const Matrix y = block.bottomRows(h);
+    const Matrix y = below;
     EXPECT_LE((y * dm * l.transpose() - e).norm() / e.norm(), 1e-13);
     const Matrix c_ref = e * a.ldlt().solve(Matrix(e.transpose()));
     const Eigen::Map<const Matrix> c(w.data() + static_cast<size_t>(h) * d, h, h);

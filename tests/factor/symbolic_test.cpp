@@ -22,13 +22,16 @@ namespace {
 using Coordinates = std::vector<std::pair<int, int>>;  // per value: (row, column) in P H P^T
 
 // The permuted scalar position of every value of the layout, lower triangle of node blocks only
-// (upper entries of node blocks are (-1, -1): nothing may land there).
-Coordinates coordinates(const Symbolic& s) {
+// (upper entries of node blocks are (-1, -1): nothing may land there). Node blocks are row-major
+// where the RSI writes; a BLAS supernode's node block is column-major where the load map writes
+// (dense.h: LAPACK's lower triangle, with the updates gathered in the other one).
+Coordinates coordinates(const Symbolic& s, bool loaded = false) {
   Coordinates at(s.num_values(), {-1, -1});
   for (int t = 0; t < s.num_supernodes(); ++t) {
     const int d = s.supernode_size(t), r0 = s.supernode_row_start(t);
+    const bool column_major = loaded && s.supernode_blas(t);
     for (int r = 0; r < d; ++r)
-      for (int c = 0; c <= r; ++c) at[s.node_offset(t) + r * d + c] = {r0 + r, r0 + c};
+      for (int c = 0; c <= r; ++c) at[s.node_offset(t) + (column_major ? c * d + r : r * d + c)] = {r0 + r, r0 + c};
     int row = 0;
     for (int j : s.supernode_edges(t))
       for (int l = 0; l < s.size(j); ++l, ++row)
@@ -130,10 +133,11 @@ void expect_consistent(const SymmetricCsc& a, const BlockPattern& blocks, const 
   std::vector<int> inverse(a.n);
   for (int i = 0; i < a.n; ++i) inverse[s.perm()[i]] = i;
   std::set<int64_t> targets;
+  const Coordinates loaded = coordinates(s, /*loaded=*/true);
   for (int c = 0; c < a.n; ++c)
     for (int p = a.col_ptr[c]; p < a.col_ptr[c + 1]; ++p) {
       const int pr = inverse[a.row_idx[p]], pc = inverse[c];
-      ASSERT_EQ(at[s.load_map()[p]], std::make_pair(std::max(pr, pc), std::min(pr, pc)));
+      ASSERT_EQ(loaded[s.load_map()[p]], std::make_pair(std::max(pr, pc), std::min(pr, pc)));
       ASSERT_TRUE(targets.insert(s.load_map()[p]).second);
     }
   EXPECT_GT(s.memory_bytes(), 0);
