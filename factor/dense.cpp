@@ -166,13 +166,15 @@ int panels(double* a, int n, int ld, const double* floor, double* inv_d, double*
         rc[i] *= inv_d[j0 + c];
       }
     }
-    // A22[i0:, i0:i1] -= W[i0:, :] L21[i0:i1, :]^T by column panels (the lower triangle and, in
-    // each diagonal panel, the upper one's products too, never read).
+    // A22[i0:, i0:i1] -= W[i0:, :] L21[i0:i1, :]^T by column panels; dgemm writes the upper
+    // triangle of each diagonal panel too, which is set back to zero: in a node that no other
+    // supernode updates, the other triangle stays zero, and Numeric::load does not zero it.
     double* a22 = r + static_cast<int64_t>(b) * ld;
     for (int i0 = 0; i0 < m; i0 += kRowPanel) {
       const int cols = std::min(kRowPanel, m - i0), rows = m - i0;
-      dgemm_("N", "T", &rows, &cols, &b, &minus_one, w + i0, &m, r + i0, &ld, &one,
-             a22 + static_cast<int64_t>(i0) * ld + i0, &ld);
+      double* c = a22 + static_cast<int64_t>(i0) * ld + i0;
+      dgemm_("N", "T", &rows, &cols, &b, &minus_one, w + i0, &m, r + i0, &ld, &one, c, &ld);
+      for (int j = 1; j < cols; ++j) std::fill_n(c + static_cast<int64_t>(j) * ld, j, 0.0);
     }
   }
   return -1;

@@ -70,6 +70,10 @@ const passes::Passes*& current_passes() {
 // all ones. OR-ed over many values (latency 1) instead of a branch per entry or a floating-point
 // sum (its 4-cycle chain made the load a fifth of a small factorization).
 inline uint64_t not_finite_bit(double x) { return (((std::bit_cast<uint64_t>(x) >> 52) & 0x7ff) + 1) >> 11; }
+
+// Offset of entry (r, c) in supernode st's node block: row-major where the kernels of kernels.h
+// eliminate, column-major in a BLAS one (dense.h).
+int64_t node_entry(const passes::Step& st, int64_t r, int64_t c) { return is_blas(st) ? c * st.d + r : r * st.d + c; }
 }  // namespace
 
 const char* kernel_isa() { return current_passes()->isa; }
@@ -148,14 +152,16 @@ Numeric::Numeric(const Symbolic& symbolic)
   // triangle, to be added to its column-major one (dense.h).
   for (int t = 0; t < s.num_supernodes(); ++t)
     for (const int b : s.supernode_edges(t)) steps_[s.supernode_of(b)].fold = 1;
-  // What load() zeroes: every value the load map misses, but for the upper triangles of node
-  // blocks the kernels of kernels.h eliminate (they read and write the lower triangle only).
+  // What load() zeroes: every value the load map misses, but for the triangle of a node block
+  // that stays zero: the upper one where the kernels of kernels.h eliminate (they read and write
+  // the lower triangle only), the row-major lower one of a BLAS node that no other supernode
+  // updates (dense.h: the factorization leaves it zero).
   std::vector<uint8_t> loaded(values_.size(), 0);
   for (const int32_t q : s.load_map()) loaded[q] = 1;
   for (const passes::Step& st : steps_) {
-    if (is_blas(st)) continue;
+    if (is_blas(st) && st.fold) continue;
     for (int64_t r = 0; r < st.d; ++r)
-      for (int64_t c = r + 1; c < st.d; ++c) loaded[st.node + r * st.d + c] = 1;
+      for (int64_t c = r + 1; c < st.d; ++c) loaded[st.node + node_entry(st, r, c)] = 1;
   }
   for (int64_t q = 0; q < std::ssize(loaded);) {
     if (loaded[q]) {
@@ -384,7 +390,6 @@ SymmetricCsc Numeric::scalar_ldl() const {
     const double* lb = v + s.column_offset(t);
     const int* rows = s.column_rows(t);
     const bool single = keeps_l(steps_[t]);
-    const int64_t row_step = is_blas(steps_[t]) ? 1 : d, column_step = is_blas(steps_[t]) ? d : 1;  // (dense.h)
     for (int k = s.supernode_begin(t); k < s.supernode_begin(t + 1); ++k) {
       for (const int j : s.edges(k)) in_column[j] = 1;
       in_column[k] = 1;
@@ -394,7 +399,7 @@ SymmetricCsc Numeric::scalar_ldl() const {
         for (int64_t r = c + 1; r < d; ++r) {
           if (!in_column[s.pivot_of_row(r0 + static_cast<int>(r))]) continue;
           l.row_idx.push_back(r0 + static_cast<int>(r));
-          l.values.push_back(node[r * row_step + c * column_step]);
+          l.values.push_back(node[node_entry(steps_[t], r, c)]);
         }
         // Below the node the scalar L is Y = L_{*,k} L_kk: stored as it is, but for a fused
         // chain column, which holds L_{*,k} (numeric.h).

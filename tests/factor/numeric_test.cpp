@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <new>
+#include <random>
 #include <filesystem>
 #include <limits>
 #include <string>
@@ -328,6 +329,47 @@ TEST(Numeric, IndefiniteIsReportedWithSylvestersInertia) {
   EXPECT_EQ(info2.inertia.positive, 1);
   EXPECT_EQ(info2.inertia.negative, 1);
   EXPECT_EQ(info2.pivot, -3);
+}
+
+// Indefinite nodes wide enough for BLAS go by dense.h's LDL^T panels, whose products also land in
+// the node block's other triangle, which the load zeroes only in a node that other supernodes
+// update. Two fronts of 100 rows, uncoupled, and 130 rows coupled to both: in natural order the
+// first front is one BLAS supernode, the second nests into the last rows and makes the other
+// (230 rows, folding the first one's updates); negative pivots in both, a dominant diagonal:
+// Sylvester's inertia, the solve, and a Numeric that factored another matrix first gives a fresh
+// one's values bit for bit.
+TEST(Numeric, IndefiniteBlasNodesLeaveNothingBehind) {
+  const int front = 100, n = 2 * front + 130;
+  std::vector<double> sign(n, 1.0);
+  for (const int r : {3, 70, 150, 230, 231, n - 1}) sign[r] = -1;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Triplet> t;
+  for (int j = 0; j < n; ++j)
+    for (int i = j; i < n; ++i)
+      if (i >= 2 * front || (i < front) == (j < front)) t.push_back({i, j, i == j ? sign[i] * 2 * n : u(rng)});
+  const SymmetricCsc a = csc_from_triplets(n, t);
+  const BlockPattern blocks = BlockPattern::from_scalar(a, std::vector<int>(n, 1));
+  const Symbolic s = analyze(a, blocks, "natural");
+  ASSERT_EQ(s.num_supernodes(), 2);
+  EXPECT_EQ(s.supernode_size(0), front);
+  for (int k = 0; k < 2; ++k) EXPECT_TRUE(s.supernode_blas(k)) << k;
+  Numeric reused(s), fresh(s);
+  const FactorInfo info = fresh.factorize(a);
+  EXPECT_EQ(info.status, FactorStatus::indefinite) << info.message();
+  EXPECT_EQ(info.inertia.negative, 6);
+  EXPECT_EQ(info.inertia.positive, n - 6);
+  std::vector<double> b(n, 1.0), x = b;
+  fresh.solve(x);
+  EXPECT_LE(backward_error(a, x, b), 1e-14);
+  SymmetricCsc other = a;
+  for (int j = 0; j < n; ++j)
+    for (int q = other.col_ptr[j]; q < other.col_ptr[j + 1]; ++q)
+      if (other.row_idx[q] != j) other.values[q] *= 0.5;
+  ASSERT_TRUE(reused.factorize(other).usable());
+  ASSERT_TRUE(reused.factorize(a).usable());
+  for (size_t q = 0; q < fresh.values().size(); ++q)
+    ASSERT_EQ(std::bit_cast<uint64_t>(reused.values()[q]), std::bit_cast<uint64_t>(fresh.values()[q])) << "value " << q;
 }
 
 TEST(Numeric, NanInTheInputNamesItsBlock) {
