@@ -134,7 +134,7 @@ TEST(Dense, ZeroPivotIsReportedWhereverItFalls) {
 }
 
 // A NaN or an infinity in the block is reported at its pivot (off the diagonal, at its row's),
-// not factored into L, by the panels and by the whole block's Cholesky alike.
+// not factored into L, by ldl_blocked and by factor_supernode alike.
 TEST(Dense, NonFinitePivotIsReported) {
   const int n = 2 * dense::kPanel + 5;
   for (int k : {0, 10, dense::kPanel + 2}) {
