@@ -193,13 +193,6 @@ void fold_updates(double* node, int d) {
           node[static_cast<int64_t>(j) * d + i] += node[static_cast<int64_t>(i) * d + j];
 }
 
-int ldl_blocked(double* a, int n, int ld, const double* floor, double* inv_d, double* w) {
-  int cholesky = 0;
-  const int bad = panels(a, n, ld, floor, inv_d, w, cholesky);
-  to_unit_ldl(a, cholesky, n - cholesky, ld, inv_d, w);
-  return bad;
-}
-
 // A positive definite node block as CHOLMOD does a supernode: Lc by panels of LAPACK's Cholesky,
 // X = E Lc^-T by dtrsm, C = X X^T by dsyrk, then Lc and X rescaled to L and Y = X diag(Lc)^-1
 // (E = Y D L^T with D = diag(Lc)^2, and C = Y D Y^T = W Y^T). Any other: unit L from the panels,

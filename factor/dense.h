@@ -19,20 +19,16 @@ inline constexpr int kRowPanel = 128;
 // column-major lower one, which the functions below factor: a(i, j) += a[i * d + j] for i > j.
 void fold_updates(double* node, int d);
 
-// LDL^T without pivoting of the n x n column-major block a (lower triangle, leading dimension ld),
-// in place, as kernels::ldl_node: unit-lower L below the diagonal, D on it, inv_d = 1 / D,
-// floor[j] the zero-pivot threshold of pivot j. Returns the first pivot that is zero or not
-// finite, or -1. A panel that is positive definite runs LAPACK's Cholesky (dpotrf, dtrsm, dsyrk
-// on column-major lower blocks, CHOLMOD's calls) and is rescaled to L and D; an indefinite one
-// runs the LDL^T loop. papers/factor.md, "Small supernodes and Cholesky panels" and "Dense
-// fronts". w: scratch of n * kPanel doubles.
-int ldl_blocked(double* a, int n, int ld, const double* floor, double* inv_d, double* w);
-
-// A supernode's elimination: its d x d node block factored in place as ldl_blocked, E (h x d,
-// following the node) turned into Y, and the lower triangle of C = W Y^T (h x h, row-major) left
-// at w + h * d. A positive definite node keeps Cholesky's Lc through its panels, and E goes by
-// dtrsm and dsyrk as in CHOLMOD's supernodes; any other, by begin_l and lower_product. Returns
-// ldl_blocked's bad pivot or -1. w: scratch of max(h * d + h * h, d * kPanel) doubles.
+// A supernode's elimination. Its d x d node block (column-major lower) gets LDL^T without
+// pivoting in place, as kernels::ldl_node: unit-lower L below the diagonal, D on it, inv_d = 1 / D,
+// floor[j] the zero-pivot threshold of pivot j. By panels of kPanel columns: a positive definite
+// panel runs LAPACK's Cholesky (dpotrf, dtrsm, dsyrk on column-major lower blocks, CHOLMOD's
+// calls) and is rescaled to L and D; an indefinite one runs the LDL^T loop (papers/factor.md,
+// "Small supernodes and Cholesky panels" and "Dense fronts"). Then E (h x d, following the node)
+// is turned into Y and the lower triangle of C = W Y^T (h x h, row-major) left at w + h * d: a
+// positive definite node keeps Cholesky's Lc through its panels, and E goes by dtrsm and dsyrk as
+// in CHOLMOD's supernodes; any other, by begin_l and lower_product. Returns the first pivot that
+// is zero or not finite, or -1. w: scratch of max(h * d + h * h, d * kPanel) doubles.
 int factor_supernode(double* node, int d, int h, const double* floor, double* inv_d, double* w);
 
 // W = E L^-T (into w, h x n row-major) and Y = W D^-1 (over e), node = L D L^T factored.

@@ -104,7 +104,7 @@ class Symbolic {
   // Bytes held by this object (layout, RSI, load map): what a mechanism pays once.
   int64_t memory_bytes() const;
   // The numeric phase's scratch: W = E L^-T of the widest column (h x d), and for a BLAS
-  // supernode also C = W Y^T (h x h) after it, or dense::ldl_blocked's d x dense::kPanel panel.
+  // supernode also C = W Y^T (h x h) after it, or the d x dense::kPanel panel of dense::factor_supernode.
   int64_t scratch_size() const { return scratch_size_; }
 
   // The block structure of L, per pivot position k (0 <= k < num_pivots):

@@ -1,6 +1,6 @@
-// factor/dense.cpp: the blocked LDL^T of a wide supernode's node block, whose panels run
-// LAPACK's Cholesky where they are positive definite and the LDL^T triple loop where not, and a
-// whole supernode (node block and the rows below it). Checked
+// factor/dense.cpp: a wide supernode's elimination, its node block by panels that run LAPACK's
+// Cholesky where they are positive definite and the LDL^T triple loop where not, alone and with
+// the rows below it. Checked
 // against independent references: the reconstruction L D L^T against A, and the inertia against
 // the signs of A's eigenvalues (Sylvester's law of inertia) from Eigen's dense eigensolver.
 #include "ldlpgs/factor/dense.h"
@@ -25,14 +25,13 @@ struct Result {
   std::vector<double> inv_d;
 };
 
-// By ldl_blocked's panels, or (whole) by factor_supernode as a supernode with no rows below.
-Result factor(const Matrix& a, double floor = 1e-300, bool whole = false) {
+// The node block alone: factor_supernode as a supernode with no rows below.
+Result factor(const Matrix& a, double floor = 1e-300) {
   const int n = static_cast<int>(a.rows());
   ColumnMajor f = a;
   f.triangularView<Eigen::StrictlyUpper>().setConstant(std::nan(""));  // only the lower triangle is read
   std::vector<double> floors(n, floor), inv_d(n, 0), w(static_cast<size_t>(n) * dense::kPanel);
-  const int bad = whole ? dense::factor_supernode(f.data(), n, 0, floors.data(), inv_d.data(), w.data())
-                        : dense::ldl_blocked(f.data(), n, n, floors.data(), inv_d.data(), w.data());
+  const int bad = dense::factor_supernode(f.data(), n, 0, floors.data(), inv_d.data(), w.data());
   Result r{bad, Matrix::Identity(n, n), Matrix::Zero(n, n), inv_d};
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < i; ++j) r.l(i, j) = f(i, j);
@@ -126,15 +125,13 @@ TEST(Dense, ZeroPivotIsReportedWhereverItFalls) {
       for (int j = 0; j < n; ++j) v(i, j) = g(rng);
     v.row(k) = v.row(k - 1);
     const Matrix a = v * v.transpose();
-    for (const bool whole : {false, true}) {  // (whole: dpotrf may pass the pivot; its floor may not)
-      EXPECT_EQ(factor(a, 1e-8 * n, whole).bad, k) << whole;
-      EXPECT_EQ(factor(spd(n, 7), 1e-8 * n, whole).bad, -1) << whole;
-    }
+    EXPECT_EQ(factor(a, 1e-8 * n).bad, k);  // (dpotrf may pass the pivot; its floor may not)
+    EXPECT_EQ(factor(spd(n, 7), 1e-8 * n).bad, -1);
   }
 }
 
 // A NaN or an infinity in the block is reported at its pivot (off the diagonal, at its row's),
-// not factored into L, by ldl_blocked and by factor_supernode alike.
+// not factored into L.
 TEST(Dense, NonFinitePivotIsReported) {
   const int n = 2 * dense::kPanel + 5;
   for (int k : {0, 10, dense::kPanel + 2}) {
@@ -142,11 +139,9 @@ TEST(Dense, NonFinitePivotIsReported) {
       Matrix a = spd(n, 3);
       a(k, k) = bad;
       EXPECT_EQ(factor(a).bad, k) << bad;
-      EXPECT_EQ(factor(a, 1e-300, /*whole=*/true).bad, k) << bad;
       a(k, k) = n;  // off the diagonal, it poisons the pivot of its row
       a(n - 1, k) = a(k, n - 1) = bad;
       EXPECT_EQ(factor(a).bad, n - 1) << bad;
-      EXPECT_EQ(factor(a, 1e-300, /*whole=*/true).bad, n - 1) << bad;
     }
   }
 }
