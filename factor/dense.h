@@ -14,6 +14,9 @@ namespace ldlpgs::dense {
 // on heavy-253's single 976-row supernode (papers/factor.md, "Supernodes").
 inline constexpr int kPanel = 64;
 inline constexpr int kRowPanel = 128;
+// Columns of a diagonal block of the rows' solve E L^-T, whose triangle is inverted explicitly
+// (papers/factor.md, "The rows' solve by blocks").
+inline constexpr int kSolveBlock = 16;
 
 // The node block's strictly row-major lower triangle (other supernodes' updates) added into its
 // column-major lower one, which the functions below factor: a(i, j) += a[i * d + j] for i > j.
