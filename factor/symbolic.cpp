@@ -10,6 +10,7 @@
 
 #include "ldlpgs/factor/dense.h"
 #include "ldlpgs/ordering/elimination_graph.h"
+#include "ldlpgs/ordering/postorder.h"
 #include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
@@ -319,8 +320,15 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
   s.n_ = pattern.n;
   s.pattern_col_ptr_ = pattern.col_ptr;
   s.pattern_row_idx_ = pattern.row_idx;
+  Elimination game = eliminate(blocks, pivots);
+  std::vector<int> postordered;
+  if (options.postorder) {
+    postordered = postorder(blocks, pivots, game);
+    pivots = postordered;
+    game = eliminate(blocks, pivots);
+  }
   Steps::pivot_rows(s, blocks, pivots);
-  Steps::counts(s, eliminate(blocks, pivots));
+  Steps::counts(s, game);
   Steps::supernodes(s, options);
   Steps::layout(s, options);
   Steps::rsi(s);

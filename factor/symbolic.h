@@ -38,6 +38,11 @@ namespace ldlpgs {
 // How the symbolic phase groups pivots into supernodes, and which of them the numeric phase
 // eliminates with BLAS. The defaults come from measurements (papers/factor.md, "Supernodes").
 struct SymbolicOptions {
+  // Factor in the weighted postorder of the given pivots' block elimination tree (CHOLMOD's
+  // default): the same fill and flops, but chains of parents become consecutive pivots, which the
+  // rules below can group into supernodes. perm() and block() are then of the postorder.
+  // papers/factor.md, "Postordered pivots".
+  bool postorder = true;
   // A maximal run of nested pivots becomes one supernode when it has at least this many rows
   // and its front (its rows and the rows of L below them) at least supernode_min_front: under
   // 128 rows a front is faster per block than on BLAS. 0 keeps every pivot alone (a huge value

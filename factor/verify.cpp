@@ -104,12 +104,14 @@ Verification verify_against_cholmod(const SymmetricCsc& a, const BlockPattern& b
   v.flops = s.flops();
 
   Cholmod cm;
-  const CholmodCounts counts = cholmod_counts(a, ordering.perm, cm);
+  // CHOLMOD factors in the order we do (Symbolic::perm: the ordering's, postordered).
+  const std::span<const int> perm = s.perm();
+  const CholmodCounts counts = cholmod_counts(a, perm, cm);
   v.nnz_L_cholmod = static_cast<int64_t>(counts.lnz);
   v.flops_cholmod = counts.fl;
-  const CholmodLdl ref = cholmod_ldl(a, ordering.perm, b, cm);
+  const CholmodLdl ref = cholmod_ldl(a, perm, b, cm);
   v.cholmod_status = ref.status;
-  if (ref.minor < a.n) v.cholmod_row = ordering.perm[ref.minor];
+  if (ref.minor < a.n) v.cholmod_row = perm[ref.minor];
   const bool cholmod_usable = v.cholmod_factored();
 
   if (cholmod_usable) v.backward_error_cholmod = backward_error(a, ref.x, b);
