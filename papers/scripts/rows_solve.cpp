@@ -12,6 +12,8 @@
 #include <random>
 #include <vector>
 
+#include "lower_inverse.h"
+
 extern "C" {
 void dtrsm_(const char*, const char*, const char*, const char*, const int*, const int*, const double*, const double*,
             const int*, double*, const int*);
@@ -22,19 +24,6 @@ void dgemm_(const char*, const char*, const int*, const int*, const int*, const 
 }
 
 using Vec = std::vector<double>;
-
-// The inverse of the b x b lower triangle of l (column-major, leading dimension ld) into inv.
-void invert_lower(const double* l, int ld, int b, double* inv) {
-  for (int j = 0; j < b; ++j) {
-    double* x = inv + j * b;
-    std::fill_n(x, b, 0.0);
-    x[j] = 1;
-    for (int k = j; k < b; ++k) {
-      x[k] /= l[k * ld + k];
-      for (int i = k + 1; i < b; ++i) x[i] -= l[k * ld + i] * x[k];
-    }
-  }
-}
 
 void left_trsm(const Vec& l, int d, Vec& x, int h) {
   const double one = 1;
