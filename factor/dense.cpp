@@ -242,7 +242,7 @@ int factor_supernode(double* node, int d, int h, const double* floor, double* in
   }
   if (h > 0) {
     const double one = 1, zero = 0;
-    solve_rows(false, node, d, d, e, h, d);                 // X = E Lc^-T
+    solve_rows(false, node, d, d, e, h, d);               // X = E Lc^-T
     dsyrk_("U", "T", &h, &d, &one, e, &d, &zero, c, &h);  // C = X X^T, row-major lower triangle
   }
   // To unit L, D and Y = X diag(Lc)^-1.

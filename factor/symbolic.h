@@ -84,8 +84,9 @@ class Symbolic {
   Symbolic() = default;
   // pattern: the stored entries (values ignored) of the matrices to factor; blocks: its partition
   // into blocks (every stored entry must lie in a block of `blocks`'s graph or on its diagonal);
-  // pivots: the block pivot sequence (pivots[k] = block eliminated k-th, a permutation). All
-  // three are checked (ArgumentError naming the fault), in every build.
+  // pivots: the block pivot sequence (pivots[k] = block eliminated k-th, a permutation), factored
+  // in its elimination tree's postorder unless options.postorder is false. All three are checked
+  // (ArgumentError naming the fault), in every build.
   static Symbolic analyze(const SymmetricCsc& pattern, const BlockPattern& blocks, std::span<const int> pivots,
                           const SymbolicOptions& options = {});
   // The same for a computed ordering: a scalar ordering (amd-scalar, metis-scalar) factors with
