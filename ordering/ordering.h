@@ -15,6 +15,8 @@
 //   best.cpp             best         the candidates below, each once; the fewest block flops
 //   certify.h            certify      a proof that an order has the fewest block flops, or a bound
 //   metrics.h            nnz(L) and flops as CHOLMOD counts them, block fill and block flops
+//   postorder.h          an order's weighted elimination-tree postorder (the same fill), which
+//                        the symbolic analysis factors in
 //
 // Every ordering has one signature, OrderingFn: a block graph in, a pivot sequence out. The
 // `-scalar` variants (amd-scalar, metis-scalar) run the same function on the scalar graph (one
