@@ -235,7 +235,7 @@ Command add_bench_command(CLI::App& app) {
   auto o = std::make_shared<BenchOptions>();
   CLI::App* cmd = app.add_subcommand("bench", "Time the block LDL^T against CHOLMOD and Eigen on one matrix");
   add_problem_options(cmd, &o->problem);
-  add_ordering_option(cmd, &o->ordering, "Ordering name (every solver factors in the order ours does: its scalar permutation, postordered)");
+  add_ordering_option(cmd, &o->ordering, "Ordering name (every solver factors in the order ours does: its scalar permutation, postordered unless --no-postorder)");
   cmd->add_option("--dense-max", o->dense_max, "Largest dimension Eigen's dense LDLT is timed on")
       ->capture_default_str()
       ->check(integer_in(0, std::numeric_limits<int>::max()));

@@ -6,8 +6,8 @@
 // test matrices (tests/data/matrices, Pd.mtx left out: it is unsymmetric; blocks as --blocks
 // auto). `ldlpgs bench` measures one problem the same way.
 //
-// Every solver factors the same P H P^T: P is the scalar order of the MECA ordering, computed
-// once per problem, so that all of them do the same flops at the same fill. All symbolic work
+// Every solver factors the same P H P^T: P is the scalar order ldlpgs factors in (the MECA
+// ordering in its elimination tree's postorder, Symbolic::perm), computed once per problem, so that all of them do the same flops at the same fill. All symbolic work
 // (ordering, ldlpgs's Symbolic, CHOLMOD's analysis, permuting the matrix) is done when a problem
 // is first benchmarked, outside the timed loops. Timed:
 //   factor/<solver>/<problem>        DirectSolver::factor(): the numeric factorization alone

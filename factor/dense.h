@@ -29,8 +29,8 @@ void fold_updates(double* node, int d);
 // calls) and is rescaled to L and D; an indefinite one runs the LDL^T loop (papers/factor.md,
 // "Small supernodes and Cholesky panels" and "Dense fronts"). Then E (h x d, following the node)
 // is turned into Y and the lower triangle of C = W Y^T (h x h, row-major) left at w + h * d: a
-// positive definite node keeps Cholesky's Lc through its panels, and E goes by dtrsm and dsyrk as
-// in CHOLMOD's supernodes; any other, by begin_l and lower_product. Returns the first pivot that
+// positive definite node keeps Cholesky's Lc through its panels, and E goes by a blocked forward
+// substitution and dsyrk as in CHOLMOD's supernodes; any other, by begin_l and lower_product. Returns the first pivot that
 // is zero or not finite, or -1. w: scratch of max(h * d + h * h, d * kPanel) doubles.
 int factor_supernode(double* node, int d, int h, const double* floor, double* inv_d, double* w);
 

@@ -1,6 +1,6 @@
 #pragma once
-// The block LDL^T against CHOLMOD's simplicial LDL^T under the same scalar permutation, without
-// postordering: L and D are unique for a given order, so they must agree entry by entry up to
+// The block LDL^T against CHOLMOD's simplicial LDL^T under the same scalar permutation (ours,
+// Symbolic::perm, already postordered; CHOLMOD told not to postorder it again): L and D are unique for a given order, so they must agree entry by entry up to
 // rounding; and both solutions are checked by their backward errors. `ldlpgs verify` prints this.
 #include <cstdint>
 #include <string>

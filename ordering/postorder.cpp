@@ -1,14 +1,20 @@
 #include "ldlpgs/ordering/postorder.h"
 
 #include <algorithm>
-#include <cassert>
+#include <string>
 #include <utility>
+
+#include "ldlpgs/sparse/csc.h"
+#include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
 
 std::vector<int> postorder(const BlockPattern& pattern, std::span<const int> pivots, const Elimination& e) {
   const int np = e.num_pivots();
-  assert(static_cast<int>(pivots.size()) == np);
+  check_permutation(pivots, pattern.num_blocks(), "postorder (pivots)");
+  if (np != pattern.num_blocks())
+    throw ArgumentError("postorder: an elimination of " + std::to_string(np) + " pivots for " +
+                        std::to_string(pattern.num_blocks()) + " blocks");
   // parent[k] (np: a root, child of a virtual node np) and weight[k].
   std::vector<int> parent(np), weight(np);
   for (int k = 0; k < np; ++k) {
@@ -29,7 +35,9 @@ std::vector<int> postorder(const BlockPattern& pattern, std::span<const int> piv
   // Depth first from the virtual root; a node is emitted after its children.
   std::vector<int> order;
   order.reserve(np);
-  std::vector<std::pair<int, int>> stack = {{np, ptr[np]}};  // (node, its next child's index)
+  std::vector<std::pair<int, int>> stack;  // (node, its next child's index); never reallocates
+  stack.reserve(np + 1);
+  stack.emplace_back(np, ptr[np]);
   while (!stack.empty()) {
     auto& [v, next] = stack.back();
     if (next < ptr[v + 1]) {

@@ -10,7 +10,8 @@
 
 namespace ldlpgs {
 
-// e: the elimination game of `pivots` (eliminate(pattern, pivots)). The parent of pivot k in the
+// e: the elimination game of `pivots` (eliminate(pattern, pivots)); pivots must be a permutation
+// of the blocks and e of as many pivots (ArgumentError otherwise, in every build). The parent of pivot k in the
 // block elimination tree is its first eliminated edge; a child's weight is its column of L's
 // rows, its block included. Children are visited lightest first (ties in pivot order), roots in
 // pivot order. Eliminating in any postorder of the tree gives the same filled graph (Liu, "The

@@ -1,4 +1,4 @@
-// One dense front on OpenBLAS (papers/factor.md, "Issue 38's targets at 061c918"): LAPACK's
+// One dense front on OpenBLAS (papers/factor.md, the unshattered star-60 in the targets at 061c918): LAPACK's
 // dpotrf("L") of an n x n positive definite block, and right-looking panels of nb columns
 // (dpotrf of the diagonal block, the rows below by dtrsm or by the diagonal block's explicit
 // inverse and dtrmm, dsyrk for the rest). Best of 50, us and GFlop/s (n^3 / 3 flops).

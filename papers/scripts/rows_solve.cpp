@@ -2,9 +2,10 @@
 // OpenBLAS's left-side dtrsm against forward substitution by diagonal blocks of nb columns, each
 // block's triangle inverted explicitly and applied with dtrmm, the rows below updated with dgemm
 // (what dense::solve_rows does). Prints the best of 40 times in us for a d x d Cholesky factor
-// and h right-hand sides, then the residual ||X' - L Z|| / (||L|| ||Z||) of both on three
-// ill-conditioned triangles. Build and run:
-//   g++ -O2 -o /tmp/rows_solve papers/scripts/rows_solve.cpp -lblas && taskset -c 1 /tmp/rows_solve
+// and h right-hand sides (and of the whole triangle's inverse by dtrtri, then dtrmm), then the
+// residual ||X' - L Z|| / (||L|| ||Z||) of the first two on three ill-conditioned triangles.
+// Build and run:
+//   g++ -O2 -o /tmp/rows_solve papers/scripts/rows_solve.cpp -llapack -lblas && taskset -c 1 /tmp/rows_solve
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -19,6 +20,7 @@ void dtrsm_(const char*, const char*, const char*, const char*, const int*, cons
             const int*, double*, const int*);
 void dtrmm_(const char*, const char*, const char*, const char*, const int*, const int*, const double*, const double*,
             const int*, double*, const int*);
+void dtrtri_(const char*, const char*, const int*, double*, const int*, int*);
 void dgemm_(const char*, const char*, const int*, const int*, const int*, const double*, const double*, const int*,
             const double*, const int*, const double*, double*, const int*);
 }
@@ -41,6 +43,15 @@ void by_blocks(const Vec& l, int d, Vec& x, int h, int nb) {
       dgemm_("N", "N", &below, &h, &b, &minus_one, l.data() + k * d + k + b, &d, x.data() + k, &d, &one,
              x.data() + k + b, &d);
   }
+}
+
+// The whole triangle's inverse (LAPACK's dtrtri), then one dtrmm.
+void whole_inverse(const Vec& l, int d, Vec& x, int h, Vec& inv) {
+  const double one = 1;
+  int info = 0;
+  inv = l;
+  dtrtri_("L", "N", &d, inv.data(), &d, &info);
+  dtrmm_("L", "L", "N", "N", &d, &h, &one, inv.data(), &d, x.data(), &d);
 }
 
 template <class F>
@@ -70,7 +81,7 @@ double residual(const Vec& l, int d, const Vec& x, const Vec& z, int h) {
 int main() {
   std::mt19937 gen(1);
   std::uniform_real_distribution<double> u(-1, 1);
-  std::printf("   d    h  dtrsm-left  blocks-8  blocks-16  blocks-32\n");
+  std::printf("   d    h  dtrsm-left  blocks-8  blocks-16  blocks-32  dtrtri+dtrmm\n");
   for (int d : {16, 32, 64, 128})
     for (int h : {32, 128, 512}) {
       Vec l(d * d, 0), x(h * d), y;
@@ -79,7 +90,8 @@ int main() {
       for (double& v : x) v = u(gen);
       std::printf("%4d %4d  %10.2f", d, h, best_us([&] { y = x; left_trsm(l, d, y, h); }));
       for (int nb : {8, 16, 32}) std::printf("  %9.2f", best_us([&] { y = x; by_blocks(l, d, y, h, nb); }));
-      std::printf("\n");
+      Vec inv;
+      std::printf("  %12.2f\n", best_us([&] { y = x; whole_inverse(l, d, y, h, inv); }));
     }
   // Ill-conditioned triangles, d = 64, h = 100: unit diagonal with -1 below (cond ~ 2^64), random
   // entries below a unit diagonal, and a diagonal and entries spread over 1e-4..1e4.

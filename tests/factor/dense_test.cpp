@@ -176,7 +176,7 @@ TEST(Dense, SupernodeGivesLYAndTheSchurUpdate) {
     int d, h;
     bool definite;
   };
-  for (const Case& k : {Case{20, 7, true}, Case{101, 9, true}, Case{dense::kPanel + 6, 30, false}, Case{dense::kPanel + 6, 0, true},
+  for (const Case& k : {Case{9, 11, true}, Case{12, 4, false}, Case{20, 7, true}, Case{101, 9, true}, Case{dense::kPanel + 6, 30, false}, Case{dense::kPanel + 6, 0, true},
                         Case{803, 5, true}}) {
     SCOPED_TRACE(testing::Message() << k.d << " x " << k.h << (k.definite ? " definite" : " indefinite"));
     const int d = k.d, h = k.h;

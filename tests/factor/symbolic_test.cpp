@@ -265,8 +265,8 @@ TEST(Symbolic, RelaxedSmallSupernodesStoreZerosWithinTheirBound) {
 }
 
 // The RSI stays within its budget of indices per entry of L on every test matrix, mapping the
-// supernodes with the most runs; bcsstk13's runs alone are 2.2 per entry (2.8 before the relaxed
-// supernodes, 7.9 before the small ones), so there the budget binds (and the coordinate check
+// supernodes with the most runs; bcsstk13's runs alone are 2.0 per entry in meca's order
+// postordered (2.2 as meca gives it, 2.8 before the relaxed supernodes, 7.9 before the small ones), so there the budget binds (and the coordinate check
 // above, skipped for bcsstk13, covers mapped supernodes on the others through kSupernodeChoices).
 TEST(Symbolic, RsiStaysWithinItsBudget) {
   for (const auto& m : testing::test_matrices()) {

@@ -12,6 +12,7 @@
 #include "ldlpgs/ordering/metrics.h"
 #include "ldlpgs/ordering/ordering.h"
 #include "ldlpgs/ordering/postorder.h"
+#include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/families.h"
 #include "ldlpgs/sparse/matrix_market.h"
 #include "ldlpgs/sparse/partition.h"
@@ -84,6 +85,20 @@ TEST(Postorder, IsAnEquivalentPostorderOnTestMatrices) {
     for (const BlockPattern& p : {BlockPattern::from_scalar(a, partition_auto(a)), BlockPattern::unit(a)})
       for (const char* name : {"natural", "meca", "amd", "metis"}) expect_postorder(p, find_ordering(name).fn(p));
   }
+}
+
+// What a caller passes is checked in every build: a permutation of the blocks, and its elimination.
+TEST(PostorderBadInput, PivotsThatAreNotAPermutationOrAnotherElimination) {
+  const BlockPattern p = constraint_graph(make_family("chain", 10));
+  const std::vector<int> pivots = find_ordering("natural").fn(p);
+  const Elimination e = eliminate(p, pivots);
+  std::vector<int> repeated = pivots;
+  repeated[1] = repeated[0];
+  EXPECT_THROW(postorder(p, repeated, e), ArgumentError);
+  EXPECT_THROW(postorder(p, std::vector<int>(pivots.begin(), pivots.end() - 1), e), ArgumentError);
+  const BlockPattern bigger = constraint_graph(make_family("chain", 12));
+  const std::vector<int> more = find_ordering("natural").fn(bigger);
+  EXPECT_THROW(postorder(bigger, more, e), ArgumentError);
 }
 
 // A postorder is its own postorder.
