@@ -225,8 +225,8 @@ void fold_updates(double* node, int d) {
 }
 
 // A positive definite node block as CHOLMOD does a supernode: Lc by panels of LAPACK's Cholesky,
-// X = E Lc^-T by blocked forward substitution (solve_rows), C = X X^T by dsyrk, then Lc and X rescaled to L and Y = X diag(Lc)^-1
-// (E = Y D L^T with D = diag(Lc)^2, and C = Y D Y^T = W Y^T). Any other: unit L from the panels,
+// X = E Lc^-T by blocked forward substitution (solve_rows), C = X X^T by dsyrk, then Lc and X
+// rescaled to L and Y = X diag(Lc)^-1 (E = Y D L^T with D = diag(Lc)^2, and C = Y D Y^T = W Y^T). Any other: unit L from the panels,
 // then begin_l and lower_product.
 int factor_supernode(double* node, int d, int h, const double* floor, double* inv_d, double* w) {
   double* e = node + static_cast<int64_t>(d) * d;

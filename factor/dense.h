@@ -30,8 +30,9 @@ void fold_updates(double* node, int d);
 // "Small supernodes and Cholesky panels" and "Dense fronts"). Then E (h x d, following the node)
 // is turned into Y and the lower triangle of C = W Y^T (h x h, row-major) left at w + h * d: a
 // positive definite node keeps Cholesky's Lc through its panels, and E goes by a blocked forward
-// substitution and dsyrk as in CHOLMOD's supernodes; any other, by begin_l and lower_product. Returns the first pivot that
-// is zero or not finite, or -1. w: scratch of max(h * d + h * h, d * kPanel) doubles.
+// substitution and dsyrk as in CHOLMOD's supernodes; any other, by begin_l and lower_product.
+// Returns the first pivot that is zero or not finite, or -1. w: scratch of max(h * d + h * h,
+// d * kPanel) doubles.
 int factor_supernode(double* node, int d, int h, const double* floor, double* inv_d, double* w);
 
 // W = E L^-T (into w, h x n row-major) and Y = W D^-1 (over e), node = L D L^T factored.

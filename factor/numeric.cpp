@@ -71,9 +71,6 @@ const passes::Passes*& current_passes() {
 // sum (its 4-cycle chain made the load a fifth of a small factorization).
 inline uint64_t not_finite_bit(double x) { return (((std::bit_cast<uint64_t>(x) >> 52) & 0x7ff) + 1) >> 11; }
 
-// Offset of entry (r, c) in supernode st's node block: row-major where the kernels of kernels.h
-// eliminate, column-major in a BLAS one (dense.h).
-int64_t node_entry(const passes::Step& st, int64_t r, int64_t c) { return is_blas(st) ? c * st.d + r : r * st.d + c; }
 }  // namespace
 
 const char* kernel_isa() { return current_passes()->isa; }
@@ -158,10 +155,11 @@ Numeric::Numeric(const Symbolic& symbolic)
   // updates (dense.h: the factorization leaves it zero).
   std::vector<uint8_t> loaded(values_.size(), 0);
   for (const int32_t q : s.load_map()) loaded[q] = 1;
-  for (const passes::Step& st : steps_) {
+  for (int t = 0; t < s.num_supernodes(); ++t) {
+    const passes::Step& st = steps_[t];
     if (is_blas(st) && st.fold) continue;
     for (int64_t r = 0; r < st.d; ++r)
-      for (int64_t c = r + 1; c < st.d; ++c) loaded[st.node + node_entry(st, r, c)] = 1;
+      for (int64_t c = r + 1; c < st.d; ++c) loaded[s.node_entry(t, r, c)] = 1;
   }
   for (int64_t q = 0; q < std::ssize(loaded);) {
     if (loaded[q]) {
@@ -399,7 +397,7 @@ SymmetricCsc Numeric::scalar_ldl() const {
         for (int64_t r = c + 1; r < d; ++r) {
           if (!in_column[s.pivot_of_row(r0 + static_cast<int>(r))]) continue;
           l.row_idx.push_back(r0 + static_cast<int>(r));
-          l.values.push_back(node[node_entry(steps_[t], r, c)]);
+          l.values.push_back(v[s.node_entry(t, r, c)]);
         }
         // Below the node the scalar L is Y = L_{*,k} L_kk: stored as it is, but for a fused
         // chain column, which holds L_{*,k} (numeric.h).

@@ -246,8 +246,9 @@ struct Symbolic::Steps {
 
   // load_map_. Entry (r, c) of the lower triangle, r in block br, c in block bc, lands in the
   // supernode t of the earlier of the two pivots, at the later one's row (target_row) and the
-  // earlier one's column; in a BLAS supernode's node block, column-major (dense.h). Entries are bucketed by t so each supernode is marked once. Throws
-  // ArgumentError for an entry that joins blocks the block pattern does not connect.
+  // earlier one's column (node_entry inside t's node block). Entries are bucketed by t so each
+  // supernode is marked once. Throws ArgumentError for an entry that joins blocks the block
+  // pattern does not connect.
   static void load_map(Symbolic& s, const SymmetricCsc& pattern, const BlockPattern& blocks) {
     const int np = s.num_pivots(), ns = s.num_supernodes();
     std::vector<int> pos(np, -1);  // pivot position of each block (size np)
@@ -289,12 +290,10 @@ struct Symbolic::Steps {
           throw ArgumentError("symbolic analysis: entry (" + std::to_string(r) + ", " + std::to_string(c) +
                               ") joins blocks " + std::to_string(br) + " and " + std::to_string(bc) +
                               ", which the block pattern does not connect");
-        const int64_t d = s.supernode_size(t);
-        if (s.sn_blas_[t] && s.sn_of_pivot_[later] == t)  // a BLAS node block is column-major (dense.h)
-          s.load_map_[p] = static_cast<int32_t>(s.node_offset(t) + lcol * d + s.row_start_[later] -
-                                                s.supernode_row_start(t) + lrow);
-        else
-          s.load_map_[p] = static_cast<int32_t>(target_row(s, mark, t, later) + lrow * d + lcol);
+        const int64_t at = s.sn_of_pivot_[later] == t
+                               ? s.node_entry(t, s.row_start_[later] - s.supernode_row_start(t) + lrow, lcol)
+                               : target_row(s, mark, t, later) + int64_t{lrow} * s.supernode_size(t) + lcol;
+        s.load_map_[p] = static_cast<int32_t>(at);
       }
       unmark_column(s.edge_ptr_, s.edge_pivot_, last, mark);
     }

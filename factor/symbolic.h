@@ -141,6 +141,12 @@ class Symbolic {
   bool any_mapped() const { return any_mapped_; }
   int64_t node_offset(int s) const { return sn_node_offset_[s]; }
   int64_t column_offset(int s) const { return sn_node_offset_[s] + int64_t{supernode_size(s)} * supernode_size(s); }
+  // Value offset of entry (r, c) of supernode s's node block: row-major where kernels.h
+  // eliminates, column-major in a BLAS supernode (dense.h).
+  int64_t node_entry(int s, int64_t r, int64_t c) const {
+    const int64_t d = supernode_size(s);
+    return sn_node_offset_[s] + (sn_blas_[s] ? c * d + r : r * d + c);
+  }
   std::span<const int> supernode_edges(int s) const { return edges(sn_begin_[s + 1] - 1); }
   // Permuted scalar row of each row of E (size supernode_height(s)).
   const int* column_rows(int s) const { return l_rows_.data() + l_rows_ptr_[s]; }
