@@ -277,15 +277,17 @@ inline void pack_rows(const double* y, V (*yt)[N]) {
 }
 // t[c] -= w . Y_c for c < cols (<= DB): kLanes adjacent target entries per vector, each lane the
 // scalar dot product's sum in its order (from 0, k ascending), then one subtraction; of a last,
-// partial pack only the lanes below cols are stored.
-template <int N>
+// partial pack only the lanes below cols are stored. kFirst: t holds nothing yet (a run that
+// writes its target first, Numeric::plan_first_writes), so the subtraction is from zeros, which
+// are not read: 0 - s, the value subtracting from zeroed entries gives.
+template <int N, bool kFirst = false>
 __attribute__((always_inline)) inline void subtract_row(double* __restrict t, const double* __restrict w, const V (*yt)[N], int cols) {
   int c = 0;
   LDLPGS_UNROLL for (; c + kLanes <= cols; c += kLanes) {
     V s = {};
     LDLPGS_UNROLL for (int k = 0; k < N; ++k) s += w[k] * yt[c / kLanes][k];
-    V x;
-    __builtin_memcpy(&x, t + c, sizeof x);
+    V x = {};
+    if constexpr (!kFirst) __builtin_memcpy(&x, t + c, sizeof x);
     x -= s;
     __builtin_memcpy(t + c, &x, sizeof x);
   }
@@ -293,7 +295,7 @@ __attribute__((always_inline)) inline void subtract_row(double* __restrict t, co
     V s = {};
     LDLPGS_UNROLL for (int k = 0; k < N; ++k) s += w[k] * yt[c / kLanes][k];
     LDLPGS_UNROLL for (int i = 0; i < kLanes; ++i)
-      if (c + i < cols) t[c + i] -= s[i];
+      if (c + i < cols) t[c + i] = (kFirst ? 0.0 : t[c + i]) - s[i];
   }
 }
 
@@ -304,8 +306,10 @@ __attribute__((always_inline)) inline void subtract_row(double* __restrict t, co
 // rows of stride ld (the node block of b's supernode and/or rows below it). The first run starts
 // with b's own DB rows landing on the diagonal (symbolic.cpp: a == b comes first), of which only
 // the lower triangle is ever read: its upper DB(DB-1)/2 products are skipped, nearly half the
-// reduction of a column with one edge block (a chain's). Both sizes fixed at compile time make
-// each target row DB independent unrolled dot products, kLanes per vector (subtract_row).
+// reduction of a column with one edge block (a chain's). A later run with negative rows is the
+// first to write its target rows (Numeric::plan_first_writes): it stores 0 - W Y^T there
+// instead of subtracting from zeros. Both sizes fixed at compile time make each
+// target row DB independent unrolled dot products, kLanes per vector (subtract_row).
 // Returns the end of b's entry.
 template <int N, int DB>
 inline const int32_t* reduce_runs(double* __restrict values, const double* __restrict e, const double* __restrict lb,
@@ -321,7 +325,10 @@ inline const int32_t* reduce_runs(double* __restrict values, const double* __res
       int r = 0;
       if (i == 0)
         LDLPGS_UNROLL for (; r < DB; ++r, t += ld, er += N) subtract_row<N>(t, er, yt, r + 1);
-      for (; r < runs[2]; ++r, t += ld, er += N) subtract_row<N>(t, er, yt, DB);
+      if (runs[2] >= 0)
+        for (; r < runs[2]; ++r, t += ld, er += N) subtract_row<N>(t, er, yt, DB);
+      else
+        for (; r < -runs[2]; ++r, t += ld, er += N) subtract_row<N, true>(t, er, yt, DB);
     }
   } else {
     const int m = N ? N : n;
@@ -333,8 +340,12 @@ inline const int32_t* reduce_runs(double* __restrict values, const double* __res
       if (i == 0)
         LDLPGS_UNROLL for (; r < nb; ++r, t += ld, er += m)
           LDLPGS_UNROLL for (int c = 0; c <= r; ++c) t[c] -= dot<N>(er, lb + c * m, m);
-      for (; r < runs[2]; ++r, t += ld, er += m)
-        LDLPGS_UNROLL for (int c = 0; c < nb; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+      if (runs[2] >= 0)
+        for (; r < runs[2]; ++r, t += ld, er += m)
+          LDLPGS_UNROLL for (int c = 0; c < nb; ++c) t[c] -= dot<N>(er, lb + c * m, m);
+      else
+        for (; r < -runs[2]; ++r, t += ld, er += m)
+          LDLPGS_UNROLL for (int c = 0; c < nb; ++c) t[c] = 0.0 - dot<N>(er, lb + c * m, m);
     }
   }
   return runs;
@@ -385,7 +396,8 @@ inline constexpr const SingleFn* kSingle = SingleTable<std::make_index_sequence<
 
 // The same subtraction for a BLAS supernode (dense.h), whose product C = W Y^T is already
 // computed: c points at C's column of b's first row (row stride ldc); each run subtracts its
-// rows of C, nb columns wide, lower triangle only on the diagonal.
+// rows of C, nb columns wide, lower triangle only on the diagonal (or stores 0 - C, as
+// reduce_runs does, in a run that writes first).
 inline const int32_t* scatter_runs(double* __restrict values, const double* __restrict c, const int32_t* runs, int ldc,
                                    int nb) {
   const int count = runs[0], ld = runs[1];
@@ -397,8 +409,12 @@ inline const int32_t* scatter_runs(double* __restrict values, const double* __re
     if (i == 0)
       for (; r < nb; ++r, t += ld, cr += ldc)
         for (int j = 0; j <= r; ++j) t[j] -= cr[j];
-    for (; r < runs[2]; ++r, t += ld, cr += ldc)
-      for (int j = 0; j < nb; ++j) t[j] -= cr[j];
+    if (runs[2] >= 0)
+      for (; r < runs[2]; ++r, t += ld, cr += ldc)
+        for (int j = 0; j < nb; ++j) t[j] -= cr[j];
+    else
+      for (; r < -runs[2]; ++r, t += ld, cr += ldc)
+        for (int j = 0; j < nb; ++j) t[j] = 0.0 - cr[j];
   }
   return runs;
 }

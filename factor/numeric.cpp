@@ -111,11 +111,12 @@ Numeric::Numeric(const Symbolic& symbolic)
   const Symbolic& s = symbolic;
   steps_.resize(s.num_supernodes());
   diag_pos_.reserve(s.num_rows());
+  if (s.num_supernodes() > 0) rsi_.assign(s.rsi(0), s.rsi(0) + s.rsi_size());
   using passes::Kind;
   for (int t = 0; t < s.num_supernodes(); ++t) {
     passes::Step& st = steps_[t];
     st.node = s.node_offset(t);
-    st.rsi = s.rsi(t);
+    st.rsi = rsi_.data() + (s.rsi(t) - s.rsi(0));
     st.rows = s.edge_rows(t);
     st.sizes = s.edge_sizes(t);
     st.erows = s.column_rows(t);
@@ -155,6 +156,7 @@ Numeric::Numeric(const Symbolic& symbolic)
   // updates (dense.h: the factorization leaves it zero).
   std::vector<uint8_t> loaded(values_.size(), 0);
   for (const int32_t q : s.load_map()) loaded[q] = 1;
+  if (!s.any_mapped()) plan_first_writes(loaded);
   for (int t = 0; t < s.num_supernodes(); ++t) {
     const passes::Step& st = steps_[t];
     if (is_blas(st) && st.fold) continue;
@@ -178,6 +180,35 @@ Numeric::Numeric(const Symbolic& symbolic)
     } else {
       zero_runs_.push_back(begin);
       zero_runs_.push_back(q - begin);
+    }
+  }
+}
+
+// Flags the runs below a target's diagonal that write every entry of theirs first (rows
+// negated in rsi_): none of it is loaded from H or written by an earlier run. They store instead
+// of subtracting (kernels::reduce_runs), and their entries join `loaded` (on entry: what H
+// loads), which load() need not zero: on a loop, most of the fill that every column carries
+// (papers/factor.md, "First writes"). Not with mapped supernodes, whose writes no run records.
+void Numeric::plan_first_writes(std::vector<uint8_t>& loaded) {
+  std::vector<uint8_t> written = loaded;  // loaded, or written by a run so far
+  for (const passes::Step& st : steps_) {
+    int32_t* runs = rsi_.data() + (st.rsi - rsi_.data());
+    for (int b = 0; b < st.m; ++b) {
+      const int count = runs[0], ld = runs[1], db = st.sizes[b];
+      runs += 2;
+      for (int i = 0; i < count; ++i, runs += 3) {
+        // The run's rows of ld values, db wide (the first run's first db rows: lower triangle).
+        auto each = [&](auto&& f) {
+          for (int64_t r = 0; r < runs[2]; ++r)
+            for (int c = 0; c < (i == 0 && r < db ? r + 1 : db); ++c) f(runs[0] + r * ld + c);
+        };
+        bool first = i > 0;
+        each([&](int64_t q) { first = first && !written[q]; });
+        each([&](int64_t q) { written[q] = 1; });
+        if (!first) continue;
+        each([&](int64_t q) { loaded[q] = 1; });
+        runs[2] = -runs[2];
+      }
     }
   }
 }

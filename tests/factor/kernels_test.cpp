@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <bit>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -123,6 +125,42 @@ TEST_P(Kernels, ReduceRunsSubtractEachPanelProductAtItsTarget) {
           }
         EXPECT_EQ(values[target + rows * ld], 1.0);  // nothing beyond the run
       }
+    }
+  }
+}
+
+TEST_P(Kernels, ARunThatWritesFirstStoresWhatSubtractingFromZerosGives) {
+  // Runs of db and 7 rows, the second one's rows negated: it writes its target first, so it must
+  // store there, bit for bit, what the same run subtracts from zeros, whatever the target held
+  // (NaN here); the first run subtracts as always. reduce_runs and scatter_runs alike.
+  const int d = GetParam();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int db = 1; db <= 7; ++db) {
+    const int ld = db + 3;
+    const std::vector<int32_t> subtracting = {2, ld, 0, 2, db, 100, 4, 7}, storing = {2, ld, 0, 2, db, 100, 4, -7};
+    const RowMatrix e = RowMatrix::Random(11, d), l = RowMatrix::Random(11, d);
+    const RowMatrix product = e * l.middleRows(2, db).transpose();  // 11 x db
+    std::vector<double> zeros(200, 1.0), stored(200, 1.0), scattered_zeros(200, 1.0), scattered(200, 1.0);
+    for (int r = 0; r < 7; ++r)
+      for (int c = 0; c < db; ++c) {
+        zeros[100 + r * ld + c] = scattered_zeros[100 + r * ld + c] = 0.0;
+        stored[100 + r * ld + c] = scattered[100 + r * ld + c] = nan;
+      }
+    kernels::dispatch_size(d, [&](auto size) {
+      constexpr int N = decltype(size)::value;
+      kernels::dispatch_size(db, [&](auto size_b) {
+        constexpr int DB = decltype(size_b)::value;
+        kernels::reduce_runs<N, DB>(zeros.data(), e.data(), l.data() + 2 * d, subtracting.data(), d, db);
+        const int32_t* end = kernels::reduce_runs<N, DB>(stored.data(), e.data(), l.data() + 2 * d, storing.data(), d, db);
+        EXPECT_EQ(end, storing.data() + storing.size());
+      });
+    });
+    kernels::scatter_runs(scattered_zeros.data(), product.data(), subtracting.data(), db, db);
+    EXPECT_EQ(kernels::scatter_runs(scattered.data(), product.data(), storing.data(), db, db),
+              storing.data() + storing.size());
+    for (size_t q = 0; q < zeros.size(); ++q) {
+      EXPECT_EQ(std::bit_cast<uint64_t>(stored[q]), std::bit_cast<uint64_t>(zeros[q])) << "db " << db << " value " << q;
+      EXPECT_EQ(std::bit_cast<uint64_t>(scattered[q]), std::bit_cast<uint64_t>(scattered_zeros[q])) << "db " << db << " value " << q;
     }
   }
 }
