@@ -278,7 +278,7 @@ inline void pack_rows(const double* y, V (*yt)[N]) {
 // t[c] -= w . Y_c for c < cols (<= DB): kLanes adjacent target entries per vector, each lane the
 // scalar dot product's sum in its order (from 0, k ascending), then one subtraction; of a last,
 // partial pack only the lanes below cols are stored. kFirst: t holds nothing yet (a run that
-// writes its target first, Numeric::plan_first_writes), so the subtraction is from zeros, which
+// writes its target first, Symbolic::rsi), so the subtraction is from zeros, which
 // are not read: 0 - s, the value subtracting from zeroed entries gives.
 template <int N, bool kFirst = false>
 __attribute__((always_inline)) inline void subtract_row(double* __restrict t, const double* __restrict w, const V (*yt)[N], int cols) {
@@ -307,7 +307,7 @@ __attribute__((always_inline)) inline void subtract_row(double* __restrict t, co
 // with b's own DB rows landing on the diagonal (symbolic.cpp: a == b comes first), of which only
 // the lower triangle is ever read: its upper DB(DB-1)/2 products are skipped, nearly half the
 // reduction of a column with one edge block (a chain's). A later run with negative rows is the
-// first to write its target rows (Numeric::plan_first_writes): it stores 0 - W Y^T there
+// first to write its target rows (Symbolic::rsi): it stores 0 - W Y^T there
 // instead of subtracting from zeros. Both sizes fixed at compile time make each
 // target row DB independent unrolled dot products, kLanes per vector (subtract_row).
 // Returns the end of b's entry.

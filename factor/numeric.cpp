@@ -111,12 +111,11 @@ Numeric::Numeric(const Symbolic& symbolic)
   const Symbolic& s = symbolic;
   steps_.resize(s.num_supernodes());
   diag_pos_.reserve(s.num_rows());
-  if (s.num_supernodes() > 0) rsi_.assign(s.rsi(0), s.rsi(0) + s.rsi_size());
   using passes::Kind;
   for (int t = 0; t < s.num_supernodes(); ++t) {
     passes::Step& st = steps_[t];
     st.node = s.node_offset(t);
-    st.rsi = rsi_.data() + (s.rsi(t) - s.rsi(0));
+    st.rsi = s.rsi(t);
     st.rows = s.edge_rows(t);
     st.sizes = s.edge_sizes(t);
     st.erows = s.column_rows(t);
@@ -156,7 +155,7 @@ Numeric::Numeric(const Symbolic& symbolic)
   // updates (dense.h: the factorization leaves it zero).
   std::vector<uint8_t> loaded(values_.size(), 0);
   for (const int32_t q : s.load_map()) loaded[q] = 1;
-  if (!s.any_mapped()) plan_first_writes(loaded);
+  mark_first_writes(loaded);
   for (int t = 0; t < s.num_supernodes(); ++t) {
     const passes::Step& st = steps_[t];
     if (is_blas(st) && st.fold) continue;
@@ -184,31 +183,17 @@ Numeric::Numeric(const Symbolic& symbolic)
   }
 }
 
-// Flags the runs below a target's diagonal that write every entry of theirs first (rows
-// negated in rsi_): none of it is loaded from H or written by an earlier run. They store instead
-// of subtracting (kernels::reduce_runs), and their entries join `loaded` (on entry: what H
-// loads), which load() need not zero: on a loop, most of the fill that every column carries
-// (papers/factor.md, "First writes"). Not with mapped supernodes, whose writes no run records.
-void Numeric::plan_first_writes(std::vector<uint8_t>& loaded) {
-  std::vector<uint8_t> written = loaded;  // loaded, or written by a run so far
+// The entries of the runs that write their target first (Symbolic::rsi, rows negated) join
+// `loaded`: those runs store there (kernels::reduce_runs), so load() need not zero them.
+void Numeric::mark_first_writes(std::vector<uint8_t>& loaded) const {
+  if (symbolic_->any_mapped()) return;  // (no flags then, and a mapped step has no runs)
   for (const passes::Step& st : steps_) {
-    int32_t* runs = rsi_.data() + (st.rsi - rsi_.data());
+    const int32_t* runs = st.rsi;
     for (int b = 0; b < st.m; ++b) {
-      const int count = runs[0], ld = runs[1], db = st.sizes[b];
+      const int count = runs[0], ld = runs[1];
       runs += 2;
-      for (int i = 0; i < count; ++i, runs += 3) {
-        // The run's rows of ld values, db wide (the first run's first db rows: lower triangle).
-        auto each = [&](auto&& f) {
-          for (int64_t r = 0; r < runs[2]; ++r)
-            for (int c = 0; c < (i == 0 && r < db ? r + 1 : db); ++c) f(runs[0] + r * ld + c);
-        };
-        bool first = i > 0;
-        each([&](int64_t q) { first = first && !written[q]; });
-        each([&](int64_t q) { written[q] = 1; });
-        if (!first) continue;
-        each([&](int64_t q) { loaded[q] = 1; });
-        runs[2] = -runs[2];
-      }
+      for (int i = 0; i < count; ++i, runs += 3)
+        if (runs[2] < 0) for_each_run_entry(runs, i, ld, st.sizes[b], [&](int64_t q) { loaded[q] = 1; });
     }
   }
 }

@@ -128,12 +128,9 @@ class Numeric {
   // small pivot per supernode) those lookups and the tests choosing the kernel were a tenth of
   // the factorization (perf, papers/factor.md "Per-pivot overhead").
   passes::Factor passes_factor();
-  void plan_first_writes(std::vector<uint8_t>& loaded);  // the constructor's: rsi_'s flags
+  void mark_first_writes(std::vector<uint8_t>& loaded) const;  // the constructor's zeroing plan
   const Symbolic* symbolic_;
   std::vector<passes::Step> steps_;  // (size symbolic.num_supernodes())
-  // The Symbolic's RSI, but for the runs that write their target first, whose rows are negated
-  // (plan_first_writes; kernels::reduce_runs). (size symbolic.rsi_size())
-  std::vector<int32_t> rsi_;
   std::vector<int> edge_targets_;   // mapped steps' targets and columns (passes::Factor; size their edge blocks)
   std::vector<int> edge_columns_;
   // The values load() must zero: offset and length of each run of entries that no stored entry

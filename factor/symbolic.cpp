@@ -244,6 +244,31 @@ struct Symbolic::Steps {
     s.rsi_ptr_ = std::move(ptr);
   }
 
+  // rsi_'s flags. In elimination order, a run below its target's diagonal whose every entry is
+  // neither loaded (load_map_) nor written by an earlier run writes its target first: its rows
+  // are negated, and the numeric phase stores there instead of subtracting from zeros (so it
+  // need not zero them). On a loop that is the fill every column carries (papers/factor.md,
+  // "First writes"). None with mapped supernodes, whose writes are in no run.
+  static void first_writes(Symbolic& s) {
+    if (s.any_mapped_) return;
+    std::vector<uint8_t> written(s.num_values(), 0);  // loaded, or written by a run so far
+    for (const int32_t q : s.load_map_) written[q] = 1;
+    for (int t = 0; t < s.num_supernodes(); ++t) {
+      int32_t* runs = s.rsi_.data() + s.rsi_ptr_[t];
+      const int* sizes = s.edge_sizes(t);
+      for (size_t b = 0; b < s.supernode_edges(t).size(); ++b) {
+        const int count = runs[0], ld = runs[1];
+        runs += 2;
+        for (int i = 0; i < count; ++i, runs += 3) {
+          bool first = i > 0;
+          for_each_run_entry(runs, i, ld, sizes[b], [&](int64_t q) { first = first && !written[q]; });
+          for_each_run_entry(runs, i, ld, sizes[b], [&](int64_t q) { written[q] = 1; });
+          if (first) runs[2] = -runs[2];
+        }
+      }
+    }
+  }
+
   // load_map_. Entry (r, c) of the lower triangle, r in block br, c in block bc, lands in the
   // supernode t of the earlier of the two pivots, at the later one's row (target_row) and the
   // earlier one's column (node_entry inside t's node block). Entries are bucketed by t so each
@@ -333,6 +358,7 @@ Symbolic Symbolic::analyze(const SymmetricCsc& pattern, const BlockPattern& bloc
   Steps::rsi(s);
   Steps::map_over_budget(s, options);
   Steps::load_map(s, pattern, blocks);
+  Steps::first_writes(s);
   return s;
 }
 

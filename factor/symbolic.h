@@ -79,6 +79,16 @@ struct SymbolicOptions {
   int64_t rsi_min_entries = int64_t{1} << 16;
 };
 
+// Calls f(value offset) for every entry that `run`, one (target, first row in E, rows) triple of
+// Symbolic::rsi, writes: the i-th run of an edge block of db rows, row stride ld. Rows of db
+// values; the first run's first db rows, on the target's diagonal, their lower triangle only.
+template <class F>
+void for_each_run_entry(const int32_t* run, int i, int ld, int db, F&& f) {
+  const int64_t rows = run[2] < 0 ? -int64_t{run[2]} : run[2];
+  for (int64_t r = 0; r < rows; ++r)
+    for (int c = 0; c < (i == 0 && r < db ? r + 1 : db); ++c) f(run[0] + r * ld + c);
+}
+
 class Symbolic {
  public:
   Symbolic() = default;
@@ -157,7 +167,9 @@ class Symbolic {
   // runs and the row stride of the target supernode (its size), then per run (value offset of its
   // first target row, its first row in E, rows). The run's rows of E times L_b^T land at
   // consecutive target rows of that stride, the first run's first size(b) rows on the target's
-  // diagonal (of which only the lower triangle is written).
+  // diagonal (of which only the lower triangle is written). A later run with its rows negated
+  // writes its target first: none of its entries is loaded from the pattern or written by an
+  // earlier run, so the numeric phase stores there instead of subtracting from zeros.
   const int32_t* rsi(int s) const { return rsi_.data() + rsi_ptr_[s]; }
   int64_t rsi_size() const { return static_cast<int64_t>(rsi_.size()); }
   int max_size() const { return max_size_; }  // largest block

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include <algorithm>
 #include <limits>
 #include <map>
@@ -116,7 +118,8 @@ void expect_consistent(const SymmetricCsc& a, const BlockPattern& blocks, const 
       const int runs = *rsi++, ld = *rsi++;
       ASSERT_EQ(ld, s.supernode_size(s.supernode_of(jb)));
       for (int run = 0; run < runs; ++run, rsi += 3) {
-        for (int r = 0; r < rsi[2]; ++r) {
+        ASSERT_TRUE(run > 0 || rsi[2] > 0) << "supernode " << t << ": a first run writes first";
+        for (int r = 0; r < std::abs(rsi[2]); ++r) {
           const int source = rsi[1] + r;
           ++covered[source];
           for (int c = 0; c < db; ++c) {
@@ -130,6 +133,26 @@ void expect_consistent(const SymmetricCsc& a, const BlockPattern& blocks, const 
         EXPECT_EQ(covered[i], i >= s.edge_rows(t)[b] ? 1 : 0) << "supernode " << t;
     }
     ASSERT_EQ(rsi, rsi_end);  // no run left over
+  }
+  // First writes: in elimination order, a run has its rows negated exactly when it is not the
+  // first of its edge block and none of its entries is loaded or written by an earlier run.
+  if (!s.any_mapped()) {
+    std::vector<char> written(s.num_values(), 0);
+    for (const int32_t q : s.load_map()) written[q] = 1;
+    for (int t = 0; t < s.num_supernodes(); ++t) {
+      const int32_t* rsi = s.rsi(t);
+      for (const int jb : s.supernode_edges(t)) {
+        const int runs = *rsi++, ld = *rsi++, db = s.size(jb);
+        for (int run = 0; run < runs; ++run, rsi += 3) {
+          std::vector<int64_t> entries;
+          for (int r = 0; r < std::abs(rsi[2]); ++r)
+            for (int c = 0; c < (run == 0 && r < db ? r + 1 : db); ++c) entries.push_back(rsi[0] + int64_t{r} * ld + c);
+          const bool fresh = run > 0 && std::none_of(entries.begin(), entries.end(), [&](int64_t q) { return written[q]; });
+          EXPECT_EQ(rsi[2] < 0, fresh) << "supernode " << t << " run " << run;
+          for (const int64_t q : entries) written[q] = 1;
+        }
+      }
+    }
   }
   // Load map: stored entry (r, c) lands at its permuted position, lower triangle.
   std::vector<int> inverse(a.n);
