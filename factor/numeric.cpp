@@ -149,10 +149,11 @@ Numeric::Numeric(const Symbolic& symbolic)
   // triangle, to be added to its column-major one (dense.h).
   for (int t = 0; t < s.num_supernodes(); ++t)
     for (const int b : s.supernode_edges(t)) steps_[s.supernode_of(b)].fold = 1;
-  // What load() zeroes: every value the load map misses, but for the triangle of a node block
-  // that stays zero: the upper one where the kernels of kernels.h eliminate (they read and write
-  // the lower triangle only), the row-major lower one of a BLAS node that no other supernode
-  // updates (dense.h: the factorization leaves it zero).
+  // What load() zeroes: every value the load map misses, but for those a run writes first
+  // (Symbolic::rsi) and for the triangle of a node block that stays zero: the upper one where the
+  // kernels of kernels.h eliminate (they read and write the lower triangle only), the row-major
+  // lower one of a BLAS node that no other supernode updates (dense.h: the factorization leaves
+  // it zero).
   std::vector<uint8_t> loaded(values_.size(), 0);
   for (const int32_t q : s.load_map()) loaded[q] = 1;
   mark_first_writes(loaded);
@@ -169,8 +170,8 @@ Numeric::Numeric(const Symbolic& symbolic)
     }
     const int64_t begin = q;
     while (q < std::ssize(loaded) && !loaded[q]) ++q;
-    // Zeroing a loaded value is harmless (the scatter overwrites it): a run starting within
-    // kGap values of the last one extends it. bcsstk13's zeros (partly zero blocks, fill) were
+    // Zeroing a loaded value is harmless (the scatter overwrites it), as is one a run writes
+    // first (it stores there): a run starting within kGap values of the last one extends it. bcsstk13's zeros (partly zero blocks, fill) were
     // 6,586 runs, and as many calls cost more than one memset of all values.
     constexpr int64_t kGap = 64;
     const size_t k = zero_runs_.size();
@@ -228,8 +229,10 @@ void Numeric::prepare(const FactorOptions& options) {
   constexpr int kSafe = 500, kHighest = 1000;
   scale_ = 0;
   if (largest > std::ldexp(1.0, kSafe) || smallest < std::ldexp(1.0, -kSafe)) {
+    // The largest |entry| of H: the loaded values' (the rest is zero, or stale where a run
+    // writes its target first, Symbolic::rsi).
     double amax = 0;
-    for (const double x : values_) amax = std::max(amax, std::abs(x));
+    for (const int32_t q : s.load_map()) amax = std::max(amax, std::abs(values_[q]));
     if (amax > 0) {
       const int top = std::ilogb(amax);
       scale_ = std::max(std::midpoint(std::ilogb(smallest), std::ilogb(largest)), top - kHighest);

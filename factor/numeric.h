@@ -114,6 +114,8 @@ class Numeric {
   SymmetricCsc scalar_ldl() const;
 
   const Symbolic& symbolic() const { return *symbolic_; }
+  // The packed factor. After a factorization that stopped, the values it did not reach are
+  // unspecified (loaded, partly reduced, or left by the factorization before).
   std::span<const double> values() const { return values_; }
 
  private:

@@ -664,6 +664,29 @@ TEST(Numeric, PositiveDefiniteAtEveryScaleOfDoubleFactorsAndSolves) {
   }
 }
 
+// A run that writes its target first (Symbolic::rsi) leaves the last factorization's values
+// there until it stores, so nothing before the elimination may read them, the scaling of an
+// out-of-range matrix included. A loop (whose fill such runs write) with one block's rows and
+// columns scaled by 2^-450 leaves fill near 2^450 in that block's column of L; the loop near
+// 2^-600 (scaled into range) must then give a fresh Numeric's values bit for bit.
+TEST(Numeric, ReuseAcrossScalesLeavesNothingBehind) {
+  const BodyGraph g = make_family("loop", 12);
+  const SymmetricCsc h = mechanism_matrix(g);
+  const Symbolic s = analyze(h, constraint_graph(g));
+  std::vector<double> c(h.n, 1.0);
+  const int k = s.num_pivots() / 2;
+  for (int r = s.row_start(k); r < s.row_start(k) + s.size(k); ++r) c[s.perm()[r]] = std::ldexp(1.0, -450);
+  SymmetricCsc before = h;
+  for (int j = 0; j < h.n; ++j)
+    for (int p = h.col_ptr[j]; p < h.col_ptr[j + 1]; ++p) before.values[p] *= c[h.row_idx[p]] * c[j];
+  Numeric reused(s), fresh(s);
+  ASSERT_TRUE(reused.factorize(before).usable());
+  ASSERT_TRUE(reused.factorize(scaled(h, -600)).usable());
+  ASSERT_TRUE(fresh.factorize(scaled(h, -600)).usable());
+  for (size_t q = 0; q < fresh.values().size(); ++q)
+    ASSERT_EQ(std::bit_cast<uint64_t>(reused.values()[q]), std::bit_cast<uint64_t>(fresh.values()[q])) << "value " << q;
+}
+
 // Rows of very different scales in one matrix: diag(1, 2^-1050) is solvable (scaled into range);
 // diag(2^1000, 2^-1070) spans more than double's exponent range, and the tiny pivot's reciprocal
 // overflows at any scale that keeps 2^1000 finite: reported as a zero pivot, never "ok" with a

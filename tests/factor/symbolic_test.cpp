@@ -5,9 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-
 #include <algorithm>
+#include <cstdlib>
 #include <limits>
 #include <map>
 #include <set>
@@ -135,8 +134,11 @@ void expect_consistent(const SymmetricCsc& a, const BlockPattern& blocks, const 
     ASSERT_EQ(rsi, rsi_end);  // no run left over
   }
   // First writes: in elimination order, a run has its rows negated exactly when it is not the
-  // first of its edge block and none of its entries is loaded or written by an earlier run.
-  if (!s.any_mapped()) {
+  // first of its edge block and none of its entries is loaded or written by an earlier run; with
+  // a mapped supernode, whose writes are in no run, none is.
+  if (s.any_mapped()) {
+    for (int64_t i = 0; i < s.rsi_size(); ++i) ASSERT_GE(s.rsi(0)[i], 0) << "RSI index " << i;
+  } else {
     std::vector<char> written(s.num_values(), 0);
     for (const int32_t q : s.load_map()) written[q] = 1;
     for (int t = 0; t < s.num_supernodes(); ++t) {
