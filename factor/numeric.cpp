@@ -188,15 +188,10 @@ Numeric::Numeric(const Symbolic& symbolic)
 // `loaded`: those runs store there (kernels::reduce_runs), so load() need not zero them.
 void Numeric::mark_first_writes(std::vector<uint8_t>& loaded) const {
   if (symbolic_->any_mapped()) return;  // (no flags then, and a mapped step has no runs)
-  for (const passes::Step& st : steps_) {
-    const int32_t* runs = st.rsi;
-    for (int b = 0; b < st.m; ++b) {
-      const int count = runs[0], ld = runs[1];
-      runs += 2;
-      for (int i = 0; i < count; ++i, runs += 3)
-        if (runs[2] < 0) for_each_run_entry(runs, i, ld, st.sizes[b], [&](int64_t q) { loaded[q] = 1; });
-    }
-  }
+  for (const passes::Step& st : steps_)
+    for_each_run(st.rsi, st.sizes, st.m, [&](const int32_t* run, int i, int ld, int db) {
+      if (run[2] < 0) for_each_run_entry(run, i, ld, db, [&](int64_t q) { loaded[q] = 1; });
+    });
 }
 
 bool Numeric::load(const SymmetricCsc& a, const FactorOptions& options) {

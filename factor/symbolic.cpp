@@ -253,20 +253,14 @@ struct Symbolic::Steps {
     if (s.any_mapped_) return;
     std::vector<uint8_t> written(s.num_values(), 0);  // loaded, or written by a run so far
     for (const int32_t q : s.load_map_) written[q] = 1;
-    for (int t = 0; t < s.num_supernodes(); ++t) {
-      int32_t* runs = s.rsi_.data() + s.rsi_ptr_[t];
-      const int* sizes = s.edge_sizes(t);
-      for (size_t b = 0; b < s.supernode_edges(t).size(); ++b) {
-        const int count = runs[0], ld = runs[1];
-        runs += 2;
-        for (int i = 0; i < count; ++i, runs += 3) {
-          bool first = i > 0;
-          for_each_run_entry(runs, i, ld, sizes[b], [&](int64_t q) { first = first && !written[q]; });
-          for_each_run_entry(runs, i, ld, sizes[b], [&](int64_t q) { written[q] = 1; });
-          if (first) runs[2] = -runs[2];
-        }
-      }
-    }
+    for (int t = 0; t < s.num_supernodes(); ++t)
+      for_each_run(s.rsi_.data() + s.rsi_ptr_[t], s.edge_sizes(t), static_cast<int>(s.supernode_edges(t).size()),
+                   [&](int32_t* run, int i, int ld, int db) {
+                     bool first = i > 0;
+                     for_each_run_entry(run, i, ld, db, [&](int64_t q) { first = first && !written[q]; });
+                     for_each_run_entry(run, i, ld, db, [&](int64_t q) { written[q] = 1; });
+                     if (first) run[2] = -run[2];
+                   });
   }
 
   // load_map_. Entry (r, c) of the lower triangle, r in block br, c in block bc, lands in the

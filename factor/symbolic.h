@@ -79,6 +79,20 @@ struct SymbolicOptions {
   int64_t rsi_min_entries = int64_t{1} << 16;
 };
 
+// Calls f(run, i, ld, db) for each run of one supernode's entry of Symbolic::rsi (`runs`, its
+// `edges` edge blocks of sizes[b] rows): run points at the (target, first row in E, rows) triple
+// of the i-th run of an edge block of db rows, ld the target's row stride. Run is int32_t or
+// const int32_t. Returns the end of the entry.
+template <class Run, class F>
+Run* for_each_run(Run* runs, const int* sizes, int edges, F&& f) {
+  for (int b = 0; b < edges; ++b) {
+    const int count = runs[0], ld = runs[1];
+    runs += 2;
+    for (int i = 0; i < count; ++i, runs += 3) f(runs, i, ld, sizes[b]);
+  }
+  return runs;
+}
+
 // Calls f(value offset) for every entry that `run`, one (target, first row in E, rows) triple of
 // Symbolic::rsi, writes: the i-th run of an edge block of db rows, row stride ld. Rows of db
 // values; the first run's first db rows, on the target's diagonal, their lower triangle only.
