@@ -201,9 +201,17 @@ double joint_separation(const Constraint& c, const RigidBody& a, const RigidBody
     }
     case ConstraintType::rod:
       return std::abs(d.norm() - c.length);
+    case ConstraintType::joint_set: {  // the largest of its translational rows
+      const ConstraintRows rows = evaluate(c, a, b);
+      double worst = 0;
+      for (int r = 0; r < rows.rows; ++r)
+        if (!rows.angular[r]) worst = std::max(worst, std::abs(rows.c[r]));
+      return worst;
+    }
     case ConstraintType::rope:
     case ConstraintType::angular_limit:
     case ConstraintType::positional_limit:
+    case ConstraintType::coordinate_limit:
       return 0;
   }
   return 0;

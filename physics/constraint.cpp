@@ -21,9 +21,10 @@ using Eigen::Matrix3d;
 using Eigen::Vector3d;
 
 // Indexed by ConstraintType (scene files spell the types this way).
-constexpr std::array<const char*, 9> kNames = {"ball",  "hinge", "prismatic",     "cylindrical",     "weld",
-                                               "rod",   "rope",  "angular_limit", "positional_limit"};
-static_assert(kNames.size() == static_cast<size_t>(ConstraintType::positional_limit) + 1);
+constexpr std::array<const char*, 11> kNames = {
+    "ball", "hinge", "prismatic", "cylindrical", "weld", "rod", "rope", "angular_limit", "positional_limit",
+    "joint_set", "coordinate_limit"};
+static_assert(kNames.size() == static_cast<size_t>(ConstraintType::coordinate_limit) + 1);
 
 // The pose quantities every row uses, at the current pose.
 struct Pose {
@@ -105,6 +106,12 @@ double hinge_angle(const Constraint& c, const Pose& p, Vector3d* gradient) {
 // The slide of b's anchor along a's axis, n = R_a n_a: n . d (a slide row).
 double slide_value(const Constraint& c, const Pose& p) { return axis_a(c, p, 2).dot(p.d); }
 
+// The coordinate a coordinate_limit bounds, and the covector of its rate.
+double coordinate_value(const Constraint& c, const RigidBody& a, const RigidBody& b, Twist* covector) {
+  const ChainFit fit = fit_chain(*c.chain, a, b, &c.coordinates);
+  return chain_coordinate(*c.chain, fit, c.coordinates, c.joint, covector);
+}
+
 // The shared part of the builders: the bodies and the world anchors in each body's frame
 // (frames: the identity, which ball, rod and rope ignore).
 Constraint make_common(ConstraintType type, int ia, const RigidBody& a, int ib, const RigidBody& b,
@@ -146,10 +153,17 @@ int num_rows(ConstraintType type) {
     case ConstraintType::rod:
     case ConstraintType::rope:
     case ConstraintType::angular_limit:
-    case ConstraintType::positional_limit: return 1;
+    case ConstraintType::positional_limit:
+    case ConstraintType::coordinate_limit: return 1;
+    case ConstraintType::joint_set: assert(false && "joint_set: its chain gives its rows"); return 0;
   }
   assert(false && "unknown constraint type");
   return 0;
+}
+
+int num_rows(const Constraint& constraint) {
+  if (constraint.type == ConstraintType::joint_set) return constraint.chain->rows();
+  return num_rows(constraint.type);
 }
 
 bool is_equality(ConstraintType type) {
@@ -159,10 +173,12 @@ bool is_equality(ConstraintType type) {
     case ConstraintType::prismatic:
     case ConstraintType::cylindrical:
     case ConstraintType::weld:
-    case ConstraintType::rod: return true;
+    case ConstraintType::rod:
+    case ConstraintType::joint_set: return true;
     case ConstraintType::rope:
     case ConstraintType::angular_limit:
-    case ConstraintType::positional_limit: return false;
+    case ConstraintType::positional_limit:
+    case ConstraintType::coordinate_limit: return false;
   }
   assert(false && "unknown constraint type");
   return false;
@@ -185,7 +201,7 @@ ConstraintRows evaluate(const Constraint& constraint, const RigidBody& a, const 
   const Constraint& c = constraint;
   const Pose p = pose_of(c, a, b);
   ConstraintRows out;
-  out.rows = num_rows(c.type);
+  out.rows = num_rows(c);
   // u_a, w_a, n_a = R_a frame_a's columns, u_b, w_b, n_b = R_b frame_b's columns (world)
   switch (c.type) {
     case ConstraintType::ball:
@@ -267,6 +283,34 @@ ConstraintRows evaluate(const Constraint& constraint, const RigidBody& a, const 
       }
       break;
     }
+    case ConstraintType::joint_set: {
+      // c = y . r for each row covector y of the chain at its fitted coordinates, J = y . V_rel
+      // (joint_set.h): J = [-t, -x - (o - p_a) x t, t, x + (o - p_b) x t] for y = (x; t) in b's
+      // frame, o the chain's child origin.
+      const ChainFit fit = fit_chain(*c.chain, a, b, &c.coordinates);
+      const ChainCovectors y = chain_row_covectors(*c.chain, fit);
+      for (int i = 0; i < out.rows; ++i) {
+        out.c[i] = y.col(i).dot(fit.residual);
+        out.angular[i] = i < c.chain->angular_rows;
+        chain_jacobian_row(*c.chain, y.col(i), a, b, out.jacobian.data() + 12 * i);
+      }
+      break;
+    }
+    case ConstraintType::coordinate_limit: {
+      // value = q_k (or a ball's angle), its rate z . V_rel with z the row of S^+ (joint_set.h):
+      // J as joint_set's; c = value - min, or max - value with -J (a ball's angle: max only).
+      Twist z;
+      const double value = coordinate_value(c, a, b, &z);
+      const ChainJointType joint = c.chain->joints[c.joint].type;
+      out.angular[0] = joint != ChainJointType::slide;
+      out.c[0] = value - c.min;
+      chain_jacobian_row(*c.chain, z, a, b, out.jacobian.data());
+      if (joint == ChainJointType::ball || value - c.min > c.max - value) {
+        out.c[0] = value - c.max;  // negated below: max - value
+        negate_row(&out, 0);
+      }
+      break;
+    }
   }
   return out;
 }
@@ -313,11 +357,30 @@ Constraint make_positional_limit(int ia, const RigidBody& a, int ib, const Rigid
   return c;
 }
 
+Constraint make_joint_set(int ia, const RigidBody& a, int ib, const RigidBody& b,
+                          const std::vector<ChainJoint>& world_joints) {
+  Constraint c = make_common(ConstraintType::joint_set, ia, a, ib, b, b.position, b.position);
+  c.chain = make_joint_chain(a, b, world_joints);
+  return c;
+}
+
+Constraint make_coordinate_limit(const Constraint& joint_set, int joint, double min, double max) {
+  assert(joint_set.chain && joint >= 0 && joint < static_cast<int>(joint_set.chain->joints.size()) && min <= max);
+  Constraint c = joint_set;
+  c.type = ConstraintType::coordinate_limit;
+  c.joint = joint;
+  c.min = min;
+  c.max = max;
+  return c;
+}
+
 double limit_value(const Constraint& constraint, const RigidBody& a, const RigidBody& b) {
   const Pose p = pose_of(constraint, a, b);
+  Twist unused;
   switch (constraint.type) {
     case ConstraintType::angular_limit: return hinge_angle(constraint, p, nullptr);
     case ConstraintType::positional_limit: return slide_value(constraint, p);
+    case ConstraintType::coordinate_limit: return coordinate_value(constraint, a, b, &unused);
     default: assert(false && "limit_value: not a limit"); return 0;
   }
 }

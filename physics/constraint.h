@@ -18,19 +18,30 @@
 //   rope                 1  distance above the length                inequality
 //   angular_limit        1  hinge angle about the axis out of range  inequality
 //   positional_limit     1  slide along the axis out of range        inequality
+//   joint_set          0-6  what a set of joints does not allow      equality
+//   coordinate_limit     1  one joint of a set out of its range      inequality
+// joint_set and coordinate_limit carry a JointChain (joint_set.h): any hinges, slides and balls
+// on one body composed as MuJoCo composes them; the set's rows number 6 minus the motions its
+// joints span.
 #include <array>
+#include <memory>
 #include <span>
 #include <string_view>
+#include <vector>
 
 #include <Eigen/Core>
 
 #include "ldlpgs/physics/body.h"
+#include "ldlpgs/physics/joint_set.h"
 
 namespace ldlpgs {
 
-enum class ConstraintType { ball, hinge, prismatic, cylindrical, weld, rod, rope, angular_limit, positional_limit };
+enum class ConstraintType {
+  ball, hinge, prismatic, cylindrical, weld, rod, rope, angular_limit, positional_limit, joint_set, coordinate_limit
+};
 
 constexpr int kMaxConstraintRows = 6;
+// The rows of every type but joint_set, whose count its chain gives (num_rows(Constraint)).
 int num_rows(ConstraintType type);
 bool is_equality(ConstraintType type);
 const char* to_string(ConstraintType type);
@@ -51,7 +62,15 @@ struct Constraint {
   // The two bodies' shapes touch each other (Box2D's collideConnected); by default bodies joined
   // by a constraint do not collide.
   bool collide = false;
+  // joint_set, coordinate_limit: the joints (shared, immutable), and which joint's coordinate a
+  // limit bounds (min, max in its unit from q = 0; a ball's angle: max only).
+  std::shared_ptr<const JointChain> chain;
+  int joint = -1;
+  // The chain's coordinates at the last evaluation, where the next fit starts (joint_set.h).
+  mutable ChainCoordinates coordinates{};
 };
+
+int num_rows(const Constraint& constraint);
 
 // Rows of one constraint at the current pose. For an inequality the row is the nearer side of
 // the limit written as c >= 0 (rope: length - distance; limits: value - min or max - value), so
@@ -79,8 +98,15 @@ Constraint make_angular_limit(int ia, const RigidBody& a, int ib, const RigidBod
 Constraint make_positional_limit(int ia, const RigidBody& a, int ib, const RigidBody& b, const Eigen::Vector3d& anchor,
                                  const Eigen::Vector3d& axis, double min, double max);
 
+// A set of joints on b, given in the world at the bodies' current pose (joint_set.h), and the
+// range [min, max] of one of them (the coordinate from here; a ball's angle: [0, max]).
+Constraint make_joint_set(int ia, const RigidBody& a, int ib, const RigidBody& b,
+                          const std::vector<ChainJoint>& world_joints);
+Constraint make_coordinate_limit(const Constraint& joint_set, int joint, double min, double max);
+
 // The hinge angle of b relative to a about the axis (angular_limit; 0 at the initial pose), and
-// the slide of b's anchor along a's axis (positional_limit; 0 at the initial pose).
+// the slide of b's anchor along a's axis (positional_limit; 0 at the initial pose), and the
+// coordinate a coordinate_limit bounds.
 double limit_value(const Constraint& constraint, const RigidBody& a, const RigidBody& b);
 
 }  // namespace ldlpgs

@@ -36,7 +36,7 @@ int Mechanism::add_constraint(Constraint constraint) {
 
 int Mechanism::num_rows() const {
   int rows = 0;
-  for (const Constraint& c : constraints) rows += ldlpgs::num_rows(c.type);
+  for (const Constraint& c : constraints) rows += ldlpgs::num_rows(c);
   return rows;
 }
 
@@ -84,13 +84,18 @@ Constraint Mechanism::positional_limit(int a, int b, const Eigen::Vector3d& anch
   return make_positional_limit(a, bodies[a], b, bodies[b], anchor, axis, min, max);
 }
 
+Constraint Mechanism::joint_set(int a, int b, const std::vector<ChainJoint>& world_joints) const {
+  assert(body_pair(*this, a, b));
+  return make_joint_set(a, bodies[a], b, bodies[b], world_joints);
+}
+
 // The constraint graph of sparse/families.h over the bodies and the chosen constraints.
 BlockPattern Mechanism::constraint_graph(bool equality_only) const {
   BodyGraph graph;
   graph.is_static.reserve(bodies.size());
   for (const RigidBody& b : bodies) graph.is_static.push_back(b.is_static);
   for (const Constraint& c : constraints)
-    if (!equality_only || is_equality(c.type)) graph.joints.push_back({c.body_a, c.body_b, ldlpgs::num_rows(c.type)});
+    if (!equality_only || is_equality(c.type)) graph.joints.push_back({c.body_a, c.body_b, ldlpgs::num_rows(c)});
   return ldlpgs::constraint_graph(graph);
 }
 

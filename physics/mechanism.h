@@ -35,6 +35,7 @@ struct Mechanism {
   Constraint angular_limit(int a, int b, const Eigen::Vector3d& axis, double min, double max) const;
   Constraint positional_limit(int a, int b, const Eigen::Vector3d& anchor, const Eigen::Vector3d& axis, double min,
                               double max) const;
+  Constraint joint_set(int a, int b, const std::vector<ChainJoint>& world_joints) const;
   int num_rows() const;                              // sum of the constraints' rows
   int num_dynamic_bodies() const;
   // The first limit or rope (an inequality row: the direct solver does not take it), -1 if none.

@@ -44,7 +44,7 @@ std::string describe(const MjcfDropped& dropped) {
   add(dropped.actuators, "actuators");
   add(dropped.sensors, "sensors");
   add(dropped.joint_dynamics, "joints' stiffness/damping/armature/friction loss");
-  add(dropped.ranges, "joint ranges (ball joints, 3-hinge sets)");
+  add(dropped.ranges, "joint ranges (joints beside a free joint)");
   add(dropped.inactive_equalities, "inactive equalities");
   add(dropped.static_equalities, "equalities between static bodies");
   add(dropped.keyframes, "keyframes (we start at qpos0, at rest)");
@@ -69,22 +69,6 @@ using Eigen::Matrix3d;
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
 
-// A hinge and a slide share one axis when |n1 x n2| of their unit axes is below this: MuJoCo's
-// kinematics give the axes exact to rounding.
-constexpr double kSameAxis = 1e-9;
-// Hinge axes meet when the point closest to all their lines lies within this (relative to the
-// anchors' distance from the origin) of each: MuJoCo's kinematics are exact to rounding.
-constexpr double kMeet = 1e-9;
-// Independent hinge axes: the sine s = |n1 x n2| (two axes) or |det(n1, n2, n3)| (three) must
-// satisfy s^2 >= eps / kMeet (s >= 4.7e-4 rad, 0.027 degrees). The axes are exact only to
-// rounding, eps ~ 2.2e-16; the closest points of two lines (the universal joint below) and the
-// meeting point of three (the solve with sum_i Q_i, whose smallest eigenvalue is ~ s^2) divide by
-// s^2, so their error is ~ eps |anchors| / s^2, and the meeting test needs it within kMeet
-// |anchors|. The rows themselves shrink with s too (the universal joint's rod between P + L n1
-// and P + L n2 has length L s). A fixed 1e-9 on s let axes 1e-8 apart through, where 1 - k^2
-// rounded to 0 and H was all NaN; the test is relative to the anchors' scale, which
-// the tolerance on the points carries.
-const double kIndependent = std::sqrt(std::numeric_limits<double>::epsilon() / kMeet);
 // A weld's relpose equals the pose at qpos0 to this (relative position, quaternion vector part).
 constexpr double kSamePose = 1e-9;
 
@@ -98,16 +82,6 @@ struct DataDeleter {
 Vector3d vec3(const mjtNum* p) { return Vector3d(p[0], p[1], p[2]); }
 Quaterniond quat(const mjtNum* wxyz) { return Quaterniond(wxyz[0], wxyz[1], wxyz[2], wxyz[3]).normalized(); }
 
-const char* joint_type_name(int type) {
-  switch (type) {
-    case mjJNT_FREE: return "free";
-    case mjJNT_BALL: return "ball";
-    case mjJNT_SLIDE: return "slide";
-    case mjJNT_HINGE: return "hinge";
-  }
-  return "unknown";
-}
-
 const char* equality_type_name(int type) {
   switch (type) {
     case mjEQ_CONNECT: return "connect";
@@ -117,26 +91,6 @@ const char* equality_type_name(int type) {
     case mjEQ_DISTANCE: return "distance";
   }
   return "unknown";
-}
-
-// Orthonormal columns (u, n x u, n): u = the part of `toward` across the unit axis n.
-Matrix3d frame_about(const Vector3d& n, const Vector3d& toward) {
-  const Vector3d u = (toward - toward.dot(n) * n).normalized();
-  Matrix3d f;
-  f.col(0) = u;
-  f.col(1) = n.cross(u);
-  f.col(2) = n;
-  return f;
-}
-
-// Orthonormal columns (x, v, x cross v) with the unit x first.
-Matrix3d frame_from(const Vector3d& x) {
-  const Vector3d v = x.unitOrthogonal();
-  Matrix3d f;
-  f.col(0) = x;
-  f.col(1) = v;
-  f.col(2) = x.cross(v);
-  return f;
 }
 
 // "path: what: problem", the path escaped and bounded; `what` and `problem` hold names already
@@ -170,28 +124,50 @@ class Converter {
       : path_(path), m_(m), d_(d), out_(out), dropped_(dropped) {}
 
   void run() {
-    out_->gravity = (m_->opt.disableflags & mjDSBL_GRAVITY) ? Vector3d::Zero() : vec3(m_->opt.gravity);
+    out_->gravity = disabled(mjDSBL_GRAVITY) ? Vector3d::Zero() : vec3(m_->opt.gravity);
     out_->timestep = m_->opt.timestep;
     for (int b = 0; b < m_->nbody; ++b) out_->add_body(body(b));
     for (int g = 0; g < m_->ngeom; ++g) geom(g);
+    if (!contacts()) switch_off_contacts();
     for (int b = 1; b < m_->nbody; ++b) joint_rows(b);
     for (int e = 0; e < m_->neq; ++e) equality(e);
     for (Constraint& c : out_->constraints) c.collide = mujoco_may_collide(c.body_a, c.body_b);
-    dropped_->contact_pairs = m_->npair + m_->nexclude;
+    count_dropped();
+  }
+
+ private:
+  // MuJoCo's <flag> switches (mjtDisableBit). "constraint" disables every constraint of MuJoCo's:
+  // contacts, limits, equalities and friction loss (a joint is no constraint there).
+  bool disabled(int flag) const { return (m_->opt.disableflags & flag) != 0; }
+  bool contacts() const { return !disabled(mjDSBL_CONTACT) && !disabled(mjDSBL_CONSTRAINT); }
+  bool limits() const { return !disabled(mjDSBL_LIMIT) && !disabled(mjDSBL_CONSTRAINT); }
+  bool equalities() const { return !disabled(mjDSBL_EQUALITY) && !disabled(mjDSBL_CONSTRAINT); }
+
+  // Contacts disabled: the shapes stay (they are drawn) but touch nothing.
+  void switch_off_contacts() {
+    for (RigidBody& body : out_->bodies)
+      for (Shape& shape : body.shapes) shape.contype = shape.conaffinity = 0;
+  }
+
+  // What changes the dynamics and is not converted; what a flag switches off is not dropped.
+  void count_dropped() {
+    dropped_->contact_pairs = contacts() ? m_->npair + m_->nexclude : 0;
     dropped_->tendons = m_->ntendon;
-    dropped_->actuators = m_->nu;
+    dropped_->actuators = disabled(mjDSBL_ACTUATION) ? 0 : m_->nu;
     dropped_->sensors = m_->nsensor;
     dropped_->keyframes = m_->nkey;
+    const bool passive = !disabled(mjDSBL_PASSIVE);
+    const bool friction_loss = !disabled(mjDSBL_FRICTIONLOSS) && !disabled(mjDSBL_CONSTRAINT);
     for (int j = 0; j < m_->njnt; ++j) {
       const int dofs = m_->jnt_type[j] == mjJNT_FREE ? 6 : m_->jnt_type[j] == mjJNT_BALL ? 3 : 1;
-      bool dynamics = m_->jnt_stiffness[j] != 0;
+      bool dynamics = passive && m_->jnt_stiffness[j] != 0;
       for (int k = m_->jnt_dofadr[j]; k < m_->jnt_dofadr[j] + dofs; ++k)
-        dynamics = dynamics || m_->dof_damping[k] != 0 || m_->dof_armature[k] != 0 || m_->dof_frictionloss[k] != 0;
+        dynamics = dynamics || (passive && m_->dof_damping[k] != 0) || m_->dof_armature[k] != 0 ||
+                   (friction_loss && m_->dof_frictionloss[k] != 0);
       dropped_->joint_dynamics += dynamics ? 1 : 0;
     }
   }
 
- private:
   std::string name(int adr, const char* kind, int id) const {
     std::string s = printable(m_->names + adr, 80);
     if (s.empty()) {
@@ -241,12 +217,13 @@ class Converter {
     J.type = m_->jnt_type[j];
     J.anchor = vec3(d_->xanchor + 3 * j);
     J.axis = vec3(d_->xaxis + 3 * j).normalized();
-    J.limited = m_->jnt_limited[j] && !(m_->opt.disableflags & mjDSBL_LIMIT);
+    J.limited = m_->jnt_limited[j] && limits();
     if (J.limited && (J.type == mjJNT_HINGE || J.type == mjJNT_SLIDE)) {
       const double q0 = m_->qpos0[m_->jnt_qposadr[j]];
       J.lo = m_->jnt_range[2 * j] - q0;
       J.hi = m_->jnt_range[2 * j + 1] - q0;
     }
+    if (J.limited && J.type == mjJNT_BALL) J.hi = m_->jnt_range[2 * j + 1];  // the cone's angle; lo = 0
     return J;
   }
 
@@ -303,7 +280,7 @@ class Converter {
     const int w1 = m_->body_weldid[b1], w2 = m_->body_weldid[b2];
     if (w1 == w2) return false;
     const int parent1 = m_->body_weldid[m_->body_parentid[w1]], parent2 = m_->body_weldid[m_->body_parentid[w2]];
-    const bool filter_parent = !(m_->opt.disableflags & mjDSBL_FILTERPARENT);
+    const bool filter_parent = !disabled(mjDSBL_FILTERPARENT);
     return !(filter_parent && w1 != 0 && w2 != 0 && (w1 == parent2 || w2 == parent1));
   }
 
@@ -317,11 +294,10 @@ class Converter {
     if (j.limited) add(out_->positional_limit(p, b, anchor, j.axis, j.lo, j.hi));
   }
 
-  // The joints of body b (in MuJoCo's order), and a label naming them for refusals.
+  // The joints of body b, in MuJoCo's order.
   struct JointSet {
     int parent = -1, body = -1;
     std::vector<Joint> hinges, slides, all;  // (sizes: the body's joints)
-    std::string label;
   };
   JointSet joint_set(int b) const {
     JointSet set;
@@ -332,188 +308,75 @@ class Converter {
       if (set.all.back().type == mjJNT_HINGE) set.hinges.push_back(set.all.back());
       if (set.all.back().type == mjJNT_SLIDE) set.slides.push_back(set.all.back());
     }
-    set.label = body_label(b);
-    if (!set.all.empty()) {
-      set.label += ": joints";
-      for (size_t k = 0; k < set.all.size(); ++k) {
-        set.label += k ? ", " : " ";
-        set.label += name(m_->name_jntadr[set.all[k].id], "joint", set.all[k].id);
-        set.label += " (";
-        set.label += joint_type_name(set.all[k].type);
-        set.label += ")";
-      }
-    }
     return set;
   }
-  // A joint set our constraint types cannot express.
-  [[noreturn]] void refuse(const JointSet& set, const std::string& why) const {
-    std::string s = why;
-    s += "; our constraint types (physics/constraint.h) have no such rows";
-    fail(set.label, s);
-  }
 
-  // The joints between body b and its parent as rows (the table in mjcf.h): what rows a set
-  // needs is 3 - (independent slides) translational and 3 - (independent hinges; 3 with a ball)
-  // rotational.
+  // The joints between body b and its parent as rows (the table in mjcf.h): one hinge, slide or
+  // ball keeps its own constraint type; any other set is one joint_set (joint_set.h), which
+  // removes exactly what the set does not allow, and each range is a limit in MuJoCo's own
+  // coordinate.
   void joint_rows(int b) {
     if (at(b).is_static) return;  // welded to the world: no joints, nothing to hold
     const JointSet set = joint_set(b);
     const int p = set.parent;
-    const size_t hinges = set.hinges.size(), slides = set.slides.size();
+    const bool free = std::any_of(set.all.begin(), set.all.end(), [](const Joint& j) { return j.type == mjJNT_FREE; });
     if (set.all.empty()) {  // rigidly attached to a moving parent
       add(out_->axial(ConstraintType::weld, p, b, at(b).position, Vector3d::UnitX()));
-    } else if (set.all.size() == 1 && set.all[0].type == mjJNT_FREE) {
-      // six degrees of freedom: no rows
-    } else if (set.all.size() == 1 && set.all[0].type == mjJNT_BALL) {
-      add(out_->ball(p, b, set.all[0].anchor));
-      if (m_->jnt_limited[set.all[0].id] && !(m_->opt.disableflags & mjDSBL_LIMIT)) ++dropped_->ranges;  // a cone
-    } else if (hinges + slides != set.all.size()) {
-      refuse(set, "a free or ball joint combined with other joints");
-    } else if (hinges + slides == 1 || (hinges == 1 && slides == 1)) {
+    } else if (free) {
+      // six degrees of freedom: no rows; the other joints' coordinates are redundant with it
+      for (const Joint& j : set.all) dropped_->ranges += j.type != mjJNT_FREE && j.limited ? 1 : 0;
+    } else if (set.all.size() == 1 && set.all[0].type != mjJNT_BALL) {
       axial_rows(set);
-    } else if (slides > 0) {
-      refuse_slides(set);
-    } else if (hinges > 3) {
-      refuse(set, "more than three hinges");
     } else {
-      require_independent_hinges(set);
-      if (hinges == 3) meeting_hinges_rows(set);
-      else universal_rows(set);
+      chain_rows(set);
     }
   }
 
-  // One hinge, one slide, or a hinge and a slide on one axis: a hinge, prismatic or cylindrical
-  // joint with the limits of its coordinates.
+  // One hinge or one slide: a hinge or prismatic joint with the limit of its coordinate.
   void axial_rows(const JointSet& set) {
     const int p = set.parent, b = set.body;
     if (set.slides.empty()) {
       const Joint& h = set.hinges[0];
       add(out_->axial(ConstraintType::hinge, p, b, h.anchor, h.axis));
       angular_limit(p, b, h);
-    } else if (set.hinges.empty()) {
+    } else {
       const Joint& s = set.slides[0];
       add(out_->axial(ConstraintType::prismatic, p, b, at(b).position, s.axis));
       positional_limit(p, b, at(b).position, s);
-    } else {
-      const Joint &h = set.hinges[0], &s = set.slides[0];
-      if (h.axis.cross(s.axis).norm() > kSameAxis)
-        refuse(set, "a hinge and a slide on different axes (1 rotational and 1 translational degree of freedom off "
-                    "one axis: 2 translational and 2 rotational rows not of a cylindrical joint)");
-      add(out_->axial(ConstraintType::cylindrical, p, b, h.anchor, h.axis));
-      angular_limit(p, b, h);
-      positional_limit(p, b, h.anchor, s);
     }
   }
 
-  [[noreturn]] void refuse_slides(const JointSet& set) const {
-    const size_t slides = set.slides.size(), hinges = set.hinges.size();
-    std::string why = std::to_string(slides);
-    why += " slides and ";
-    why += std::to_string(hinges);
-    why += " hinges (would need ";
-    why += std::to_string(3 - static_cast<int>(slides));
-    why += " translational and ";
-    why += std::to_string(3 - static_cast<int>(hinges));
-    why += " rotational rows";
-    why += slides == 3 && hinges == 0 ? ": an orientation-only constraint)" : ")";
-    refuse(set, why);
-  }
-
-  // Two or three hinges with independent axes (parallel ones would be a hinge with a redundant
-  // coordinate).
-  void require_independent_hinges(const JointSet& set) const {
-    const std::vector<Joint>& h = set.hinges;
-    const double sine = h.size() == 2 ? h[0].axis.cross(h[1].axis).norm()
-                                      : std::abs(h[0].axis.dot(h[1].axis.cross(h[2].axis)));
-    if (!(sine >= kIndependent)) {
-      std::string why = "hinges with dependent (parallel or coplanar) axes (sine ";
-      why += format_number(sine);
-      why += ", below ";
-      why += format_number(kIndependent);
-      why += ": the rows would be singular to rounding)";
-      refuse(set, why);
-    }
-  }
-
-  // The anchors' scale, for the meeting tolerance.
-  static double anchor_scale(const JointSet& set) {
-    double size = 1;
-    for (const Joint& h : set.hinges) size = std::max(size, h.anchor.norm());
-    return size;
-  }
-
-  // Three hinges whose axes meet in one point P: P stays fixed in both bodies and all rotation is
-  // free, a ball. P minimizes sum_i |(I - n_i n_i^T)(P - a_i)|^2: (sum_i Q_i) P = sum_i Q_i a_i,
-  // Q_i the projector across axis i (invertible for independent axes).
-  void meeting_hinges_rows(const JointSet& set) {
+  // Any other set (balls, hinges and slides, none free): a ball alone is a ball constraint, the
+  // rest one joint_set; then each range as a coordinate_limit of the set's chain (a ball's: its
+  // cone, the angle of its rotation).
+  void chain_rows(const JointSet& set) {
     const int p = set.parent, b = set.body;
-    Matrix3d q_sum = Matrix3d::Zero();
-    Vector3d rhs = Vector3d::Zero();
-    for (const Joint& h : set.hinges) {
-      const Matrix3d q = Matrix3d::Identity() - h.axis * h.axis.transpose();
-      q_sum += q;
-      rhs += q * h.anchor;
+    const int dofs = static_cast<int>(set.hinges.size() + set.slides.size() + 3 * (set.all.size() - set.hinges.size() - set.slides.size()));
+    if (dofs > kMaxChainDofs) {
+      std::string why = std::to_string(dofs);
+      why += " degrees of freedom in its joints, more than a body has (";
+      why += std::to_string(kMaxChainDofs);
+      why += ")";
+      fail(body_label(b), why);
     }
-    const Vector3d point = q_sum.fullPivLu().solve(rhs);
-    const double size = anchor_scale(set);
-    for (const Joint& h : set.hinges) {
-      const double miss = ((Matrix3d::Identity() - h.axis * h.axis.transpose()) * (point - h.anchor)).norm();
-      if (miss > kMeet * size) {
-        std::string why = "three hinges whose axes do not meet in one point (";
-        why += format_number(miss);
-        why += " m off): the child's translation then depends on its rotation";
-        refuse(set, why);
-      }
+    std::vector<ChainJoint> joints;  // (size: the body's joints)
+    for (const Joint& j : set.all) {
+      ChainJoint c;
+      c.type = j.type == mjJNT_HINGE ? ChainJointType::hinge
+               : j.type == mjJNT_SLIDE ? ChainJointType::slide
+                                       : ChainJointType::ball;
+      c.anchor = j.anchor;
+      c.axis = j.axis;
+      joints.push_back(c);
     }
-    add(out_->ball(p, b, point));
-    // Their ranges bound Euler angles, which our limits (one angle about one axis) cannot
-    // measure.
-    for (const Joint& h : set.hinges) dropped_->ranges += h.limited ? 1 : 0;
-  }
-
-  // Universal joint (mjcf.h): the closest points P1 = a1 + s n1 (on the parent) and
-  // P2 = a2 + t n2 (on the child) of the two axis lines, from (P2 - P1) . n1 = (P2 - P1) . n2 = 0:
-  // with w = a1 - a2, k = n1.n2: s = (k (n2.w) - n1.w) / (1 - k^2), t = (n2.w - k (n1.w)) / (1 - k^2).
-  void universal_rows(const JointSet& set) {
-    const int p = set.parent, b = set.body;
-    const RigidBody& child = at(b);
-    const Joint &h1 = set.hinges[0], &h2 = set.hinges[1];
-    const Vector3d &n1 = h1.axis, &n2 = h2.axis;
-    const Vector3d w = h1.anchor - h2.anchor;
-    // 1 - k^2 = |n1 x n2|^2, the latter without the cancellation of 1 - k^2 near parallel axes
-    const double k = n1.dot(n2), denominator = n1.cross(n2).squaredNorm();
-    const Vector3d p1 = h1.anchor + ((k * n2.dot(w) - n1.dot(w)) / denominator) * n1;
-    const Vector3d p2 = h2.anchor + ((n2.dot(w) - k * n1.dot(w)) / denominator) * n2;
-    const double offset = (p2 - p1).norm();
-    const double length = kUniversalRodLength;
-    if (offset <= kMeet * anchor_scale(set)) {
-      add(out_->ball(p, b, (p1 + p2) / 2));
-      add(out_->distance(ConstraintType::rod, p, b, p1 + length * n1, p2 + length * n2));
-    } else {
-      add(out_->distance(ConstraintType::rod, p, b, p1, p2));
-      add(out_->distance(ConstraintType::rod, p, b, p1 + length * n1, p2));
-      add(out_->distance(ConstraintType::rod, p, b, p1, p2 + length * n2));
-      add(out_->distance(ConstraintType::rod, p, b, p1 + length * n1, p2 + length * n2));
+    const Constraint chain = out_->joint_set(p, b, joints);
+    if (set.all.size() == 1) {
+      add(out_->ball(p, b, set.all[0].anchor));
+    } else if (num_rows(chain) > 0) {
+      add(chain);
     }
-    // q1 turns the child about n1 (parent-fixed) and leaves n2 (child-fixed) alone, so q1 is the
-    // angle of the child's n2 about the parent's n1, measured from its qpos0 direction: an
-    // angular_limit with u_a = n2's part across n1 on the parent and u_b = n2 on the child
-    // (hinge_angle reads only those and n_a; the part of u_b along n_a changes neither s nor k).
-    const Matrix3d rp = at(p).orientation.toRotationMatrix(), rc = child.orientation.toRotationMatrix();
-    if (h1.limited) {
-      Constraint c = out_->angular_limit(p, b, n1, h1.lo, h1.hi);
-      c.frame_a = rp.transpose() * frame_about(n1, n2);
-      c.frame_b = rc.transpose() * frame_from(n2);
-      add(c);
-    }
-    // q2 turns the child about n2 (child-fixed) after q1, which leaves n1 (parent-fixed) alone, so
-    // seen from the child the parent's n1 turns by -q2 about n2: the limit with a = child.
-    if (h2.limited) {
-      Constraint c = out_->angular_limit(b, p, n2, -h2.hi, -h2.lo);
-      c.frame_a = rc.transpose() * frame_about(n2, n1);
-      c.frame_b = rp.transpose() * frame_from(n1);
-      add(c);
-    }
+    for (size_t k = 0; k < set.all.size(); ++k)
+      if (set.all[k].limited) add(make_coordinate_limit(chain, static_cast<int>(k), set.all[k].lo, set.all[k].hi));
   }
 
   void equality(int e) {
@@ -522,7 +385,7 @@ class Converter {
     label += "\" (";
     label += equality_type_name(m_->eq_type[e]);
     label += ")";
-    if (!m_->eq_active[e] || (m_->opt.disableflags & mjDSBL_EQUALITY)) {
+    if (!m_->eq_active[e] || !equalities()) {
       ++dropped_->inactive_equalities;
       return;
     }

@@ -10,16 +10,16 @@
 //   joints      the joints between a body and its parent become the rows removing exactly the
 //               degrees of freedom they do not allow (xanchor, xaxis at qpos0):
 //                 none                          weld
-//                 free                          nothing
-//                 ball                          ball
+//                 free (alone or not)           nothing
 //                 hinge                         hinge           (range: angular_limit)
 //                 slide                         prismatic       (range: positional_limit)
-//                 hinge + slide, one axis       cylindrical     (ranges: both limits)
-//                 2 hinges                      universal joint (below): 4 rows  (ranges: 2 limits)
-//                 3 hinges, axes meeting at P   ball at P (ranges dropped: they bound Euler angles)
-//               Every other set (two or three slides, three hinges whose axes do not meet, ball
-//               with other joints, a hinge and a slide on different axes) is refused:
-//               constraint.h has no constraint with those rows.
+//                 ball                          ball            (range: coordinate_limit, the cone)
+//                 any other set                 joint_set       (ranges: coordinate_limit)
+//               A joint_set (physics/joint_set.h) composes the body's hinges, slides and balls in
+//               MuJoCo's order and removes what they do not span: planar roots (slide, slide,
+//               hinge), two or three slides, universal joints, three hinges whose axes need not
+//               meet, a ball beside other joints. Each range is an inequality row in MuJoCo's own
+//               coordinate, measured from qpos0 (a ball's: the angle of its rotation).
 //               Constraints: the joints' body by body, then the equalities in MuJoCo's order.
 //   equality    connect -> ball, weld -> weld (at the relative pose of qpos0, which must be the
 //               weld's relpose); joint, tendon and distance equalities are refused.
@@ -35,29 +35,16 @@
 //               unless one is the world or filterparent is disabled. (Pairs of such bodies not
 //               joined by a constraint, e.g. a welded child and its grandparent, are not
 //               filtered here.)
-//   options     gravity = opt.gravity (0 if disabled), timestep = opt.timestep.
+//   options     gravity = opt.gravity, timestep = opt.timestep; MuJoCo's <flag>s are honoured:
+//               gravity (0), contact (shapes kept, touching nothing), limit, equality,
+//               constraint (all three), filterparent (the body-pair filter below); actuation,
+//               passive and frictionloss switch off what they name (not counted as dropped).
 // Dropped, and counted in MjcfDropped: geoms of the types without a shape (hfield, ellipsoid,
 // cylinder, mesh: they touch nothing), explicit contact pairs and excludes, tendons, actuators,
-// sensors, joint springs, damping, armature and friction loss, ball-joint and 3-hinge ranges,
+// sensors, joint springs, damping, armature and friction loss, the ranges of joints beside a free joint,
 // inactive equalities, keyframes (the mechanism starts at qpos0, at rest), MuJoCo's
 // soft-constraint parameters (solref, solimp: our rows are hard) and the geoms' other contact
 // parameters (condim, torsional and rolling friction, margin, gap, priority, solmix).
-//
-// The universal joint, MuJoCo's hinge n1 then hinge n2 on one body: n1's line is fixed in the
-// parent, n2's in the child (it turns with q1), so the child keeps 2 rotational degrees of
-// freedom and 4 rows must hold. Let P1 (on the parent) and P2 (on the child) be the closest
-// points of the two lines at qpos0, D = P2 - P1, |D| = delta. Motion about either line keeps
-// D . n1 = D . n2 = 0, |D| = delta and n1 . n2 (the angle between the axes); conversely these
-// four conditions leave the child 2 degrees of freedom (its rotation, with n1 . n2 fixed, is 2-
-// dimensional, and then D = delta n1 x n2 / |n1 x n2| near qpos0), so they are the joint. With
-// constraint.h's rows:
-//   axes that meet (delta = 0):  a ball at P = P1 = P2, and a rod of length L between P + L n1
-//     on the parent and P + L n2 on the child: |L n2 - L n1| = L sqrt(2 - 2 n1.n2) holds n1.n2.
-//   axes that do not meet (the humanoid's ankles: 0.018 m): four rods, each a function of the
-//     four conditions: P1-P2 (|D| = delta); P1 + L n1 to P2 (|D - L n1|^2 = delta^2 + L^2 -
-//     2 L D.n1); P1 to P2 + L n2 (likewise D.n2); P1 + L n1 to P2 + L n2 (then 2 L^2 (1 - n1.n2)).
-// Regular while the axes are not parallel (which the rows themselves keep) and delta is not 0.
-// L = 1 m (kUniversalRodLength), so a rod's error in metres reads as an angle error in radians.
 //
 // Errors: a file MuJoCo cannot parse, and every construct above that we refuse, are an
 // InputError naming the file and the construct ("humanoid.xml: body \"x\": joints a (slide),
@@ -73,15 +60,13 @@
 
 namespace ldlpgs {
 
-constexpr double kUniversalRodLength = 1.0;  // m
-
 // What the conversion left out (counts over the model).
 struct MjcfDropped {
   int geoms = 0;             // of types without a shape: hfield, ellipsoid, cylinder, mesh
   int contact_pairs = 0;     // explicit <contact> pairs and excludes
   int tendons = 0, actuators = 0, sensors = 0, keyframes = 0;
   int joint_dynamics = 0;    // joints with stiffness, damping, armature or friction loss
-  int ranges = 0;            // joint ranges not converted (ball joints, 3-hinge sets)
+  int ranges = 0;            // joint ranges not converted (joints beside a free joint)
   int inactive_equalities = 0;
   int static_equalities = 0; // equalities between two static bodies (nothing to hold)
 };

@@ -351,6 +351,8 @@ Constraint parse_constraint(const Entry& e, const Mechanism& m,
     case ConstraintType::positional_limit:
       e.allow_only({"type", "bodies", "anchor", "axis", "min", "max", "collide"}, whose);
       break;
+    case ConstraintType::joint_set:
+    case ConstraintType::coordinate_limit: e.fail(cat(whose, " comes from MJCF models only (a scene file has no joint sets)"));
   }
 
   const json& names = e.required("bodies");
@@ -403,6 +405,8 @@ Constraint parse_constraint(const Entry& e, const Mechanism& m,
       check_range(e, min, max);
       return make_positional_limit(ia, a, ib, b, anchor, axis, min, max);
     }
+    case ConstraintType::joint_set:
+    case ConstraintType::coordinate_limit: break;  // refused above
   }
   e.fail("unhandled constraint type");  // unreachable: the switch covers every type
 }
@@ -718,6 +722,10 @@ json scene_to_json(const Mechanism& m) {
         o["min"] = c.min;
         o["max"] = c.max;
         break;
+      case ConstraintType::joint_set:
+      case ConstraintType::coordinate_limit:
+        throw InputError(cat(m.name, ": ", constraint_label(m, static_cast<int>(&c - m.constraints.data())),
+                             ": a joint set (from an MJCF model) has no scene-file form"));
     }
     if (c.collide) o["collide"] = true;  // false is the default
     constraints.push_back(std::move(o));

@@ -44,7 +44,7 @@ constexpr int kWeldRows = 6;
 std::vector<int> body_degrees(const Mechanism& m) {
   std::vector<int> degree(m.bodies.size(), 0);
   for (const Constraint& c : m.constraints) {
-    const int rows = num_rows(c.type);
+    const int rows = num_rows(c);
     degree[c.body_a] += rows;
     degree[c.body_b] += rows;
   }
@@ -164,7 +164,7 @@ Mechanism shatter_body(const Mechanism& mechanism, int body, int k, std::vector<
   for (size_t c = 0; c < m.constraints.size(); ++c)
     if (m.constraints[c].body_a == body || m.constraints[c].body_b == body) on_body.push_back(static_cast<int>(c));
   std::stable_sort(on_body.begin(), on_body.end(), [&](int x, int y) {
-    return num_rows(m.constraints[x].type) > num_rows(m.constraints[y].type);
+    return num_rows(m.constraints[x]) > num_rows(m.constraints[y]);
   });
   for (int ci : on_body) {
     Constraint& c = m.constraints[ci];
@@ -179,9 +179,10 @@ Mechanism shatter_body(const Mechanism& mechanism, int body, int k, std::vector<
         best_distance = distance;
       }
     }
-    degree[best] += num_rows(c.type);
+    degree[best] += num_rows(c);
     (side_a ? c.body_a : c.body_b) = ids[best];
     anchor -= offset[best] * e;
+    if (c.chain) c.chain = shift_chain(*c.chain, side_a, offset[best] * e);
   }
 
   // Welds between consecutive shards at their midpoint (any axis: a weld removes all 6 dofs).

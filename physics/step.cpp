@@ -92,7 +92,7 @@ System system_structure(const Mechanism& m, const std::vector<int>& column) {
   s.num_columns = m.num_dynamic_bodies();
   s.inverse_mass.assign(36 * static_cast<size_t>(s.num_columns), 0.0);
   for (const Constraint& con : m.constraints) {
-    const int k = s.add_block(num_rows(con.type), column[con.body_a], column[con.body_b]);
+    const int k = s.add_block(num_rows(con), column[con.body_a], column[con.body_b]);
     if (!is_equality(con.type)) s.set_bounds(k, 0, kUnbounded);
   }
   s.set_compliance(0);

@@ -243,9 +243,10 @@ TEST(LdlpgsBadInput, SpySceneWithoutEqualityConstraints) {
 #ifdef LDLPGS_HAVE_MUJOCO
 
 TEST(LdlpgsBadInput, StepMjcfWithAConstructWeCannotRepresent) {
-  const std::string path = temp_file("slides.xml", R"(<mujoco><worldbody><body name="box"><joint type="slide" axis="1 0 0"/>
-    <joint type="slide" axis="0 1 0"/><geom size=".1"/></body></worldbody></mujoco>)");
-  expect_input_error("step " + path, {"slides.xml", "body \"box\"", "2 slides"});
+  const std::string path = temp_file("coupled.xml", R"(<mujoco><worldbody><body name="arm"><joint name="a"/>
+    <geom size=".1"/><body name="hand"><joint name="b"/><geom size=".1"/></body></body></worldbody>
+    <equality><joint name="gear" joint1="a" joint2="b"/></equality></mujoco>)");
+  expect_input_error("step " + path, {"coupled.xml", "equality \"gear\" (joint)", "couples joint values"});
 }
 
 TEST(LdlpgsBadInput, ExportUnparsableMjcf) {

@@ -35,7 +35,16 @@ constexpr ConstraintType kAllTypes[] = {ConstraintType::ball,          Constrain
                                         ConstraintType::prismatic,     ConstraintType::cylindrical,
                                         ConstraintType::weld,          ConstraintType::rod,
                                         ConstraintType::rope,          ConstraintType::angular_limit,
-                                        ConstraintType::positional_limit};
+                                        ConstraintType::positional_limit, ConstraintType::joint_set,
+                                        ConstraintType::coordinate_limit};
+
+bool is_limit(ConstraintType type) {
+  return type == ConstraintType::angular_limit || type == ConstraintType::positional_limit ||
+         type == ConstraintType::coordinate_limit;
+}
+bool has_chain(ConstraintType type) {
+  return type == ConstraintType::joint_set || type == ConstraintType::coordinate_limit;
+}
 
 using testing::random_rotation;
 using testing::random_vector;
@@ -54,8 +63,29 @@ void set_random_velocities(std::mt19937& rng, RigidBody* b) {
   b->angular_velocity = b->is_static ? Vector3d::Zero() : random_vector(rng, 1);
 }
 
+// 1 to 3 joints as MuJoCo allows them on one body (a ball first and followed by slides only),
+// with independent dofs (at most 3 rotational), random axes and anchors near b; world frame.
+std::vector<ChainJoint> random_joints(std::mt19937& rng, const RigidBody& b) {
+  std::uniform_int_distribution<int> kind(0, 2), count(1, 3);
+  std::vector<ChainJoint> joints;
+  int rotations = 0;
+  bool ball = false;
+  for (int k = 0, n = count(rng); k < n; ++k) {
+    ChainJoint j;
+    j.type = static_cast<ChainJointType>(kind(rng));  // hinge, slide, ball
+    if (j.type == ChainJointType::ball && rotations > 0) j.type = ChainJointType::hinge;
+    if (ball) j.type = ChainJointType::slide;
+    rotations += j.type == ChainJointType::hinge ? 1 : j.type == ChainJointType::ball ? 3 : 0;
+    ball = ball || j.type == ChainJointType::ball;
+    j.anchor = b.position + random_vector(rng, 0.5);
+    j.axis = random_vector(rng, 1).normalized();
+    joints.push_back(j);
+  }
+  return joints;
+}
+
 // A constraint of `type` built by its make_* from random world data at the bodies' current pose
-// (limits: range [-1, 1]).
+// (limits: range [-1, 1]; a coordinate_limit bounds the last joint of a random set).
 Constraint random_constraint(ConstraintType type, std::mt19937& rng, const RigidBody& a, const RigidBody& b) {
   const Vector3d anchor = 0.5 * (a.position + b.position) + random_vector(rng, 1);
   const Vector3d axis = random_vector(rng, 3);  // not unit: the builders normalize
@@ -70,8 +100,62 @@ Constraint random_constraint(ConstraintType type, std::mt19937& rng, const Rigid
       return make_distance(type, 0, a, 1, b, a.position + random_vector(rng, 1), b.position + random_vector(rng, 1));
     case ConstraintType::angular_limit: return make_angular_limit(0, a, 1, b, axis, -1, 1);
     case ConstraintType::positional_limit: return make_positional_limit(0, a, 1, b, anchor, axis, -1, 1);
+    case ConstraintType::joint_set: return make_joint_set(0, a, 1, b, random_joints(rng, b));
+    case ConstraintType::coordinate_limit: {  // of a hinge or a slide (a ball's cone: mjcf_test)
+      std::vector<ChainJoint> joints = random_joints(rng, b);
+      if (joints.back().type == ChainJointType::ball) joints.push_back({ChainJointType::slide, Vector3d::UnitZ(), b.position});
+      const Constraint set = make_joint_set(0, a, 1, b, joints);
+      return make_coordinate_limit(set, static_cast<int>(joints.size()) - 1, -1, 1);
+    }
   }
   return {};
+}
+
+// The child's pose in the parent's frame after the chain's joints move by q (hinges and slides
+// by q_k, a ball by the rotation vector q_k..q_k+2), composed as MuJoCo's kinematics do: each
+// joint in the child's frame as the joints before it left it (written here apart from
+// joint_set.cpp, from its definition in joint_set.h).
+Eigen::Isometry3d chain_pose(const JointChain& chain, const std::vector<double>& q) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = chain.rotation;
+  t.translation() = chain.translation;
+  size_t k = 0;
+  for (const ChainJoint& j : chain.joints) {
+    Eigen::Isometry3d g = Eigen::Isometry3d::Identity();
+    if (j.type == ChainJointType::slide) {
+      g.translation() = q[k++] * j.axis;
+    } else {
+      const Vector3d theta = j.type == ChainJointType::hinge ? (q[k] * j.axis).eval() : Vector3d(q[k], q[k + 1], q[k + 2]);
+      k += j.type == ChainJointType::hinge ? 1 : 3;
+      g = Eigen::Translation3d(j.anchor) * AngleAxisd(theta.norm(), theta.norm() > 0 ? theta.normalized() : Vector3d::UnitX()) *
+          Eigen::Translation3d(-j.anchor);
+    }
+    t = t * g;
+  }
+  return t;
+}
+
+// For the chain types: moves the bodies (the dynamic one, or b if both are) to a random pose the
+// chain reaches, q in [-0.6, 0.6] per coordinate; the constraint's fit is walked there from q = 0
+// in small steps, as stepping moves it (joint_set.h: the fit starts where the last one ended).
+void move_along_chain(std::mt19937& rng, const Constraint& c, RigidBody* a, RigidBody* b) {
+  std::uniform_real_distribution<double> u(-0.6, 0.6);
+  std::vector<double> q(c.chain->dofs);
+  for (double& x : q) x = u(rng);
+  if (!a->is_static && !b->is_static) *a = random_body(rng);
+  const Eigen::Isometry3d pose_a = Eigen::Translation3d(a->position) * a->orientation;
+  const Eigen::Isometry3d pose_b = Eigen::Translation3d(b->position) * b->orientation;
+  constexpr int kSteps = 10;
+  for (int s = 1; s <= kSteps; ++s) {
+    std::vector<double> qs = q;
+    for (double& x : qs) x *= static_cast<double>(s) / kSteps;
+    const Eigen::Isometry3d relative = chain_pose(*c.chain, qs);
+    RigidBody* moved = b->is_static ? a : b;
+    const Eigen::Isometry3d pose = b->is_static ? pose_b * relative.inverse() : pose_a * relative;
+    moved->position = pose.translation();
+    moved->orientation = Quaterniond(pose.linear());
+    evaluate(c, *a, *b);
+  }
 }
 
 // The body moved along its velocities for a time h: p += h v, q <- exp(h w) q (world-frame w).
@@ -142,9 +226,14 @@ TEST_P(ConstraintJacobian, MatchesCentralFiniteDifferences) {
     const bool a_static = pose >= 20 && pose < 25, b_static = pose >= 25;
     RigidBody a = random_body(rng, a_static), b = random_body(rng, b_static);
     Constraint c = random_constraint(type, rng, a, b);
-    // Away from the initial pose: the dynamic bodies move to new random poses.
-    if (!a.is_static) a = random_body(rng);
-    if (!b.is_static) b = random_body(rng);
+    // Away from the initial pose: the dynamic bodies move to new random poses (a chain's to one
+    // it reaches: its J is the derivative of its c there, joint_set.h).
+    if (has_chain(type)) {
+      move_along_chain(rng, c, &a, &b);
+    } else {
+      if (!a.is_static) a = random_body(rng);
+      if (!b.is_static) b = random_body(rng);
+    }
     set_random_velocities(rng, &a);
     set_random_velocities(rng, &b);
     if (side != Side::none) {
@@ -154,7 +243,7 @@ TEST_P(ConstraintJacobian, MatchesCentralFiniteDifferences) {
       c.max = value + (side == Side::min ? 0.5 : 0.25);
     }
     const ConstraintRows rows = evaluate(c, a, b);
-    ASSERT_EQ(rows.rows, num_rows(type));
+    ASSERT_EQ(rows.rows, num_rows(c));
     const ConstraintRows plus = evaluate(c, advanced(a, h), advanced(b, h));
     const ConstraintRows minus = evaluate(c, advanced(a, -h), advanced(b, -h));
     for (int r = 0; r < rows.rows; ++r) {
@@ -184,7 +273,10 @@ INSTANTIATE_TEST_SUITE_P(
                     JacobianCase{ConstraintType::angular_limit, Side::min},
                     JacobianCase{ConstraintType::angular_limit, Side::max},
                     JacobianCase{ConstraintType::positional_limit, Side::min},
-                    JacobianCase{ConstraintType::positional_limit, Side::max}),
+                    JacobianCase{ConstraintType::positional_limit, Side::max},
+                    JacobianCase{ConstraintType::joint_set, Side::none},
+                    JacobianCase{ConstraintType::coordinate_limit, Side::min},
+                    JacobianCase{ConstraintType::coordinate_limit, Side::max}),
     [](const ::testing::TestParamInfo<JacobianCase>& info) { return case_name(info.param); });
 
 // ---- per-type claims over all types ----
@@ -202,7 +294,7 @@ TEST_P(EveryType, ZeroAtTheInitialPose) {
     const RigidBody a = random_body(rng, trial == 0), b = random_body(rng);
     const Constraint c = random_constraint(type, rng, a, b);
     const ConstraintRows rows = evaluate(c, a, b);
-    if (type == ConstraintType::angular_limit || type == ConstraintType::positional_limit) {
+    if (is_limit(type)) {
       EXPECT_NEAR(limit_value(c, a, b), 0, 1e-12) << "trial " << trial;
     } else {
       for (int r = 0; r < rows.rows; ++r) EXPECT_NEAR(rows.c[r], 0, 1e-12) << "trial " << trial << " row " << r;
@@ -244,7 +336,7 @@ TEST_P(EveryType, InvariantUnderACommonRigidMotion) {
       rotate_about(body, point, axis, angle);
       body->position += shift;
     }
-    if (type == ConstraintType::angular_limit || type == ConstraintType::positional_limit) {
+    if (is_limit(type)) {
       EXPECT_NEAR(limit_value(c, a, b), 0, 1e-12) << "trial " << trial;
     } else {
       EXPECT_LT(max_abs_c(evaluate(c, a, b)), 1e-12) << "trial " << trial;
@@ -267,20 +359,32 @@ TEST_P(EveryType, RowKinds) {
     case ConstraintType::rope:
     case ConstraintType::positional_limit: expected = {false}; break;
     case ConstraintType::angular_limit: expected = {true}; break;
+    case ConstraintType::joint_set:  // angular rows first (joint_set.h), counted below
+    case ConstraintType::coordinate_limit: break;
   }
   std::mt19937 rng(5);
   const RigidBody a = random_body(rng), b = random_body(rng);
-  const ConstraintRows rows = evaluate(random_constraint(type, rng, a, b), a, b);
+  const Constraint c = random_constraint(type, rng, a, b);
+  if (type == ConstraintType::joint_set) {
+    expected.assign(c.chain->angular_rows, true);
+    expected.resize(c.chain->rows(), false);
+  }
+  if (type == ConstraintType::coordinate_limit) expected = {c.chain->joints[c.joint].type != ChainJointType::slide};
+  const ConstraintRows rows = evaluate(c, a, b);
   ASSERT_EQ(rows.rows, static_cast<int>(expected.size()));
   for (int r = 0; r < rows.rows; ++r) EXPECT_EQ(rows.angular[r], expected[r]) << "row " << r;
 }
 
-// evaluate fills num_rows(type) rows.
+// evaluate fills num_rows(constraint) rows, num_rows(type) for the types of fixed size.
 TEST_P(EveryType, EvaluateFillsNumRows) {
   const ConstraintType type = GetParam();
   std::mt19937 rng(6);
   const RigidBody a = random_body(rng), b = random_body(rng);
-  EXPECT_EQ(evaluate(random_constraint(type, rng, a, b), a, b).rows, num_rows(type));
+  const Constraint c = random_constraint(type, rng, a, b);
+  EXPECT_EQ(evaluate(c, a, b).rows, num_rows(c));
+  if (type != ConstraintType::joint_set) {
+    EXPECT_EQ(num_rows(c), num_rows(type));
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(AllTypes, EveryType, ::testing::ValuesIn(kAllTypes), type_name);
@@ -297,17 +401,25 @@ TEST(Constraint, RowCountsAndKindsFollowTheTable) {
   EXPECT_EQ(num_rows(ConstraintType::rope), 1);
   EXPECT_EQ(num_rows(ConstraintType::angular_limit), 1);
   EXPECT_EQ(num_rows(ConstraintType::positional_limit), 1);
-  for (ConstraintType t : kAllTypes) EXPECT_LE(num_rows(t), kMaxConstraintRows) << to_string(t);
+  EXPECT_EQ(num_rows(ConstraintType::coordinate_limit), 1);
+  for (ConstraintType t : kAllTypes) {
+    if (t != ConstraintType::joint_set) {
+      EXPECT_LE(num_rows(t), kMaxConstraintRows) << to_string(t);
+    }
+  }
   for (ConstraintType t : {ConstraintType::ball, ConstraintType::hinge, ConstraintType::prismatic,
-                           ConstraintType::cylindrical, ConstraintType::weld, ConstraintType::rod})
+                           ConstraintType::cylindrical, ConstraintType::weld, ConstraintType::rod,
+                           ConstraintType::joint_set})
     EXPECT_TRUE(is_equality(t)) << to_string(t);
-  for (ConstraintType t : {ConstraintType::rope, ConstraintType::angular_limit, ConstraintType::positional_limit})
+  for (ConstraintType t : {ConstraintType::rope, ConstraintType::angular_limit, ConstraintType::positional_limit,
+                           ConstraintType::coordinate_limit})
     EXPECT_FALSE(is_equality(t)) << to_string(t);
 }
 
 TEST(Constraint, NamesAsScenesSpellThem) {
-  const char* names[] = {"ball", "hinge", "prismatic", "cylindrical", "weld",
-                         "rod", "rope", "angular_limit", "positional_limit"};
+  const char* names[] = {"ball", "hinge",         "prismatic",        "cylindrical", "weld",
+                         "rod",  "rope",          "angular_limit",    "positional_limit",
+                         "joint_set", "coordinate_limit"};
   for (size_t i = 0; i < std::size(kAllTypes); ++i) EXPECT_STREQ(to_string(kAllTypes[i]), names[i]);
 }
 

@@ -70,14 +70,18 @@ ModelPtr mujoco_model(const std::string& path) {
   return m;
 }
 
-std::vector<std::string> shipped_models() {
+const std::string kGymnasium = std::string(LDLPGS_TESTDATA) + "/mjcf/gymnasium";
+
+std::vector<std::string> models_in(const std::string& dir) {
   std::vector<std::string> paths;
   std::error_code ec;
-  for (const auto& entry : std::filesystem::recursive_directory_iterator(kModels, ec))
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(dir, ec))
     if (entry.path().extension() == ".xml") paths.push_back(entry.path().string());
   std::sort(paths.begin(), paths.end());
   return paths;
 }
+std::vector<std::string> shipped_models() { return models_in(kModels); }
+std::vector<std::string> gymnasium_models() { return models_in(kGymnasium); }
 
 // Equalities the converter turns into constraints (mjcf.h: after all the joints' constraints).
 int converted_equalities(const mjModel* m) {
@@ -128,6 +132,24 @@ void set_poses(const mjData* d, Mechanism* mech) {
     const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> r(d->ximat + 9 * b);
     mech->bodies[b].position = Vector3d(d->xipos + 3 * b);
     mech->bodies[b].orientation = Eigen::Quaterniond(Eigen::Matrix3d(r)).normalized();
+  }
+}
+
+// MuJoCo's configuration in d reached from `from` in small steps, our bodies following and every
+// constraint evaluated on the way, as a simulation moves them: a joint set's fit starts where the
+// last one ended (joint_set.h), and a set with several solutions keeps the one it is on.
+void walk_to(const mjModel* m, mjData* d, const std::vector<mjtNum>& from, Mechanism* mech) {
+  const std::vector<mjtNum> target(d->qpos, d->qpos + m->nq);
+  std::vector<mjtNum> qvel(m->nv);  // from -> target in unit time
+  mj_differentiatePos(m, qvel.data(), 1.0, from.data(), target.data());
+  constexpr int kSteps = 8;
+  for (int s = 1; s <= kSteps; ++s) {
+    mju_copy(d->qpos, from.data(), m->nq);
+    mj_integratePos(m, d->qpos, qvel.data(), static_cast<double>(s) / kSteps);
+    if (s == kSteps) mju_copy(d->qpos, target.data(), m->nq);
+    kinematics(m, d);
+    set_poses(d, mech);
+    for (const Constraint& c : mech->constraints) evaluate(c, mech->bodies[c.body_a], mech->bodies[c.body_b]);
   }
 }
 
@@ -202,8 +224,10 @@ ShapeCounts expect_shapes_match(const mjModel* m, const mjData* d, const Mechani
         case ShapeType::box: EXPECT_EQ(s.half_extents, Vector3d(size)); break;
       }
       EXPECT_EQ(s.friction, m->geom_friction[3 * g]);
-      EXPECT_EQ(s.contype, static_cast<uint32_t>(m->geom_contype[g]));
-      EXPECT_EQ(s.conaffinity, static_cast<uint32_t>(m->geom_conaffinity[g]));
+      // (0 where a <flag> disables contacts: the shape is kept but touches nothing)
+      const bool touching = (m->opt.disableflags & (mjDSBL_CONTACT | mjDSBL_CONSTRAINT)) == 0;
+      EXPECT_EQ(s.contype, touching ? static_cast<uint32_t>(m->geom_contype[g]) : 0u);
+      EXPECT_EQ(s.conaffinity, touching ? static_cast<uint32_t>(m->geom_conaffinity[g]) : 0u);
       EXPECT_LE((body.to_world(s.position) - Vector3d(d->geom_xpos + 3 * g)).norm(), kGeomPose);
       const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> xmat(d->geom_xmat + 9 * g);
       if (type == ShapeType::plane) {
@@ -218,10 +242,107 @@ ShapeCounts expect_shapes_match(const mjModel* m, const mjData* d, const Mechani
   return counts;
 }
 
-TEST(Mjcf, ShippedModelsMatchMuJoCo) {
+// A ball's cone limit (max side, negated: c = max - angle): the angle is that of MuJoCo's
+// quaternion for the ball, and J V moves only the ball's three dofs, by -(the axis of that
+// rotation) (d angle/dt = axis . w for the ball's local w).
+void expect_ball_cone(const mjModel* m, const mjData* d, const Constraint& c, const Mechanism& mech,
+                      const Eigen::MatrixXd& jv) {
+  const int body = c.body_b;
+  int joint = m->body_jntadr[body];
+  for (int k = 0; k < c.joint; ++k) ++joint;
+  ASSERT_EQ(m->jnt_type[joint], mjJNT_BALL);
+  const mjtNum* q = d->qpos + m->jnt_qposadr[joint];
+  const Eigen::Quaterniond turn(q[0], q[1], q[2], q[3]);
+  const Eigen::AngleAxisd angle_axis(turn.normalized());
+  const double angle = angle_axis.angle();
+  EXPECT_NEAR(limit_value(c, mech.bodies[c.body_a], mech.bodies[body]), angle, kRounding) << "the cone's angle";
+  const int dof = m->jnt_dofadr[joint];
+  for (int k = 0; k < m->nv; ++k) {
+    const double expected = k >= dof && k < dof + 3 ? -angle_axis.axis()[k - dof] : 0.0;
+    EXPECT_NEAR(jv(0, k), expected, kRounding) << "dof " << k;
+  }
+}
+
+// The joints' rows against MuJoCo's kinematics of model m (d: at qpos0 on entry): they remove
+// exactly 6 n - nv degrees of freedom, hold at qpos0, and at random configurations of MuJoCo's
+// coordinates still hold and annihilate every dof's motion; each limit measures its coordinate.
+void expect_joints_match(const mjModel* m, mjData* d, Mechanism* mechanism, std::mt19937* rng_state) {
+  Mechanism& mech = *mechanism;
+  std::mt19937& rng = *rng_state;
+  // Degrees of freedom: the joints' equality rows remove exactly 6 n - nv of the 6 n.
+  const int equalities = converted_equalities(m);
+  const size_t joint_constraints = mech.constraints.size() - equalities;
+  int joint_rows = 0;
+  for (size_t c = 0; c < joint_constraints; ++c)
+    if (is_equality(mech.constraints[c].type)) joint_rows += num_rows(mech.constraints[c]);
+  EXPECT_EQ(6 * mech.num_dynamic_bodies() - joint_rows, m->nv) << "degrees of freedom";
+
+  // At qpos0 every row holds, equalities included.
+  for (const Constraint& c : mech.constraints) {
+    const ConstraintRows rows = evaluate(c, mech.bodies[c.body_a], mech.bodies[c.body_b]);
+    if (is_equality(c.type)) {
+      for (int r = 0; r < rows.rows; ++r) EXPECT_LE(std::abs(rows.c[r]), kRounding) << to_string(c.type);
+    } else if (c.type == ConstraintType::angular_limit || c.type == ConstraintType::positional_limit ||
+               c.type == ConstraintType::coordinate_limit) {
+      EXPECT_LE(std::abs(limit_value(c, mech.bodies[c.body_a], mech.bodies[c.body_b])), kRounding);
+    }
+  }
+
+  // At random configurations of MuJoCo's coordinates: the joints' rows still hold and their
+  // Jacobian annihilates every dof's motion; each limit moves with exactly one coordinate, at
+  // unit rate, and measures it (q - qpos0).
+  // The dense check costs O(nbody nv) memory and O(rows nv) time per trial: the many-humanoid
+  // models (nv in the hundreds and thousands) are copies of humanoid.xml's joints, checked there.
+  if (m->nv > 100) {
+    std::printf("nv = %d, random configurations checked on the smaller models only\n", m->nv);
+    return;
+  }
+  std::vector<mjtNum> previous(m->qpos0, m->qpos0 + m->nq);
+  for (int trial = 0; trial < 3; ++trial) {
+    random_configuration(m, d, &rng);
+    walk_to(m, d, previous, &mech);
+    previous.assign(d->qpos, d->qpos + m->nq);
+    const std::vector<Eigen::MatrixXd> jac = body_jacobians(m, d);
+    double worst_c = 0, worst_jv = 0;
+    for (size_t ci = 0; ci < joint_constraints; ++ci) {
+      const Constraint& c = mech.constraints[ci];
+      const ConstraintRows rows = evaluate(c, mech.bodies[c.body_a], mech.bodies[c.body_b]);
+      const Eigen::MatrixXd jv = rows_times_motions(rows, c, jac);
+      if (is_equality(c.type)) {
+        for (int r = 0; r < rows.rows; ++r) worst_c = std::max(worst_c, std::abs(rows.c[r]));
+        worst_jv = std::max(worst_jv, jv.cwiseAbs().maxCoeff());
+        continue;
+      }
+      if (c.type == ConstraintType::coordinate_limit && c.chain->joints[c.joint].type == ChainJointType::ball) {
+        expect_ball_cone(m, d, c, mech, jv);
+        continue;
+      }
+      // A limit: one coordinate k with |J V_k| = 1, all others 0.
+      Eigen::Index k = 0;
+      jv.row(0).cwiseAbs().maxCoeff(&k);
+      EXPECT_NEAR(std::abs(jv(0, k)), 1.0, kRounding) << to_string(c.type) << " " << ci;
+      EXPECT_LE(jv.row(0).cwiseAbs().sum() - std::abs(jv(0, k)), kRounding) << "one coordinate only";
+      int joint = 0;
+      while (joint + 1 < m->njnt && m->jnt_dofadr[joint + 1] <= k) ++joint;
+      const double q = d->qpos[m->jnt_qposadr[joint]] - m->qpos0[m->jnt_qposadr[joint]];
+      // The row is the nearer side of the limit: the max side is negated (constraint.h).
+      const double value = limit_value(c, mech.bodies[c.body_a], mech.bodies[c.body_b]);
+      const bool max_side = value - c.min > c.max - value;
+      EXPECT_NEAR(value, (jv(0, k) > 0) != max_side ? q : -q, kRounding) << "limit " << ci << " on joint " << joint;
+    }
+    EXPECT_LE(worst_c, kRounding) << "joint rows at a MuJoCo configuration";
+    EXPECT_LE(worst_jv, kRounding) << "J V of MuJoCo's motions";
+  }
+}
+
+TEST(Mjcf, ShippedAndGymnasiumModelsMatchMuJoCo) {
   std::mt19937 rng(6);
   int loaded = 0;
-  for (const std::string& path : shipped_models()) {
+  std::vector<std::string> paths = shipped_models();
+  const std::vector<std::string> gymnasium = gymnasium_models();
+  EXPECT_GE(gymnasium.size(), 14u) << kGymnasium;
+  paths.insert(paths.end(), gymnasium.begin(), gymnasium.end());
+  for (const std::string& path : paths) {
     MjcfDropped dropped;
     Mechanism mech;
     try {
@@ -230,6 +351,7 @@ TEST(Mjcf, ShippedModelsMatchMuJoCo) {
       const std::string error = e.what();
       std::printf("skipped %s: %s\n", path.c_str(), error.c_str());
       EXPECT_EQ(error.rfind(path + ": ", 0), 0u) << "the message names the file: " << error;
+      EXPECT_EQ(path.rfind(kGymnasium, 0), std::string::npos) << "every Gymnasium model loads: " << error;
       continue;
     }
     ++loaded;
@@ -259,66 +381,71 @@ TEST(Mjcf, ShippedModelsMatchMuJoCo) {
     EXPECT_EQ(mech.gravity, Vector3d(m->opt.gravity));
     EXPECT_EQ(mech.timestep, m->opt.timestep);
 
-    // Degrees of freedom: the joints' equality rows remove exactly 6 n - nv of the 6 n.
-    const int equalities = converted_equalities(m);
-    const size_t joint_constraints = mech.constraints.size() - equalities;
-    int joint_rows = 0;
-    for (size_t c = 0; c < joint_constraints; ++c)
-      if (is_equality(mech.constraints[c].type)) joint_rows += num_rows(mech.constraints[c].type);
-    EXPECT_EQ(6 * mech.num_dynamic_bodies() - joint_rows, m->nv) << "degrees of freedom";
-
-    // At qpos0 every row holds, equalities included.
-    for (const Constraint& c : mech.constraints) {
-      const ConstraintRows rows = evaluate(c, mech.bodies[c.body_a], mech.bodies[c.body_b]);
-      if (is_equality(c.type)) {
-        for (int r = 0; r < rows.rows; ++r) EXPECT_LE(std::abs(rows.c[r]), kRounding) << to_string(c.type);
-      } else if (c.type == ConstraintType::angular_limit || c.type == ConstraintType::positional_limit) {
-        EXPECT_LE(std::abs(limit_value(c, mech.bodies[c.body_a], mech.bodies[c.body_b])), kRounding);
-      }
-    }
-
-    // At random configurations of MuJoCo's coordinates: the joints' rows still hold and their
-    // Jacobian annihilates every dof's motion; each limit moves with exactly one coordinate, at
-    // unit rate, and measures it (q - qpos0).
-    // The dense check costs O(nbody nv) memory and O(rows nv) time per trial: the many-humanoid
-    // models (nv in the hundreds and thousands) are copies of humanoid.xml's joints, checked there.
-    if (m->nv > 100) {
-      std::printf("%s: nv = %d, random configurations checked on the smaller models only\n", path.c_str(), m->nv);
-      continue;
-    }
-    for (int trial = 0; trial < 3; ++trial) {
-      random_configuration(m, d, &rng);
-      set_poses(d, &mech);
-      const std::vector<Eigen::MatrixXd> jac = body_jacobians(m, d);
-      double worst_c = 0, worst_jv = 0;
-      for (size_t ci = 0; ci < joint_constraints; ++ci) {
-        const Constraint& c = mech.constraints[ci];
-        const ConstraintRows rows = evaluate(c, mech.bodies[c.body_a], mech.bodies[c.body_b]);
-        const Eigen::MatrixXd jv = rows_times_motions(rows, c, jac);
-        if (is_equality(c.type)) {
-          for (int r = 0; r < rows.rows; ++r) worst_c = std::max(worst_c, std::abs(rows.c[r]));
-          worst_jv = std::max(worst_jv, jv.cwiseAbs().maxCoeff());
-          continue;
-        }
-        // A limit: one coordinate k with |J V_k| = 1, all others 0.
-        Eigen::Index k = 0;
-        jv.row(0).cwiseAbs().maxCoeff(&k);
-        EXPECT_NEAR(std::abs(jv(0, k)), 1.0, kRounding) << to_string(c.type) << " " << ci;
-        EXPECT_LE(jv.row(0).cwiseAbs().sum() - std::abs(jv(0, k)), kRounding) << "one coordinate only";
-        int joint = 0;
-        while (joint + 1 < m->njnt && m->jnt_dofadr[joint + 1] <= k) ++joint;
-        const double q = d->qpos[m->jnt_qposadr[joint]] - m->qpos0[m->jnt_qposadr[joint]];
-        // The row is the nearer side of the limit: the max side is negated (constraint.h).
-        const double value = limit_value(c, mech.bodies[c.body_a], mech.bodies[c.body_b]);
-        const bool max_side = value - c.min > c.max - value;
-        EXPECT_NEAR(value, (jv(0, k) > 0) != max_side ? q : -q, kRounding) << "limit " << ci << " on joint " << joint;
-      }
-      EXPECT_LE(worst_c, kRounding) << "joint rows at a MuJoCo configuration";
-      EXPECT_LE(worst_jv, kRounding) << "J V of MuJoCo's motions";
-    }
+    expect_joints_match(m, d, &mech, &rng);
   }
   std::printf("%d shipped models loaded\n", loaded);
-  EXPECT_GE(loaded, 8) << "humanoids, rope, loop, slider crank, arm, mug, scene";
+  EXPECT_GE(loaded, 8 + 14) << "humanoids, rope, loop, slider crank, arm, mug, scene; Gymnasium's 14";
+}
+
+// A body with a random set of joints (joint_set.h) on a parent that turns, as MJCF: slides and
+// at most three rotational dofs (hinges, or a ball followed by slides only, as MuJoCo requires),
+// so that the set's dofs are independent and MuJoCo's nv is what the rows leave; random axes,
+// anchors and ranges, and an off-centre box so that the inertial frame is not the body's. (More
+// rotational dofs than 3 are redundant but for the translations their lever arms bring: legal,
+// stepped, but their coordinates are ill-conditioned, so the limits' exact values are not
+// compared there.)
+std::string random_joint_set_model(std::mt19937* rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::uniform_int_distribution<int> kind(0, 2), count(2, 4);
+  auto triple = [&](double scale) {
+    char text[96];
+    std::snprintf(text, sizeof text, "%.6f %.6f %.6f", scale * u(*rng), scale * u(*rng), scale * u(*rng));
+    return std::string(text);
+  };
+  std::string joints;
+  int dofs = 0, rotations = 0;
+  bool ball = false;
+  for (int k = 0, n = count(*rng); k < n; ++k) {
+    int type = kind(*rng);
+    if (type == 2 && rotations > 0) type = 0;
+    if (type == 0 && rotations == 3) type = 1;
+    if (ball) type = 1;  // MuJoCo: a ball may be followed by slides only
+    rotations += type == 0 ? 1 : type == 2 ? 3 : 0;
+    const bool limited = u(*rng) > 0;
+    joints += "<joint name=\"j" + std::to_string(k) + "\" pos=\"" + triple(0.3) + "\"";
+    if (type == 2) {
+      ball = true;
+      dofs += 3;
+      joints += " type=\"ball\"";
+      if (limited) joints += " limited=\"true\" range=\"0 0.7\"";
+    } else {
+      dofs += 1;
+      joints += type == 0 ? " type=\"hinge\"" : " type=\"slide\"";
+      joints += " axis=\"" + triple(1) + "\"";
+      if (limited) joints += " limited=\"true\" range=\"-0.4 0.6\"";
+    }
+    joints += "/>";
+  }
+  return "<mujoco><compiler angle=\"radian\"/><worldbody><body name=\"parent\" pos=\"0 0 1\">"
+         "<joint name=\"turn\" axis=\"0.3 1 0.2\"/><geom type=\"capsule\" size=\".05\" fromto=\"0 0 0 .3 0 0\"/>"
+         "<body name=\"child\" pos=\"" + triple(0.5) + "\" euler=\"" + triple(1) + "\">" + joints +
+         "<geom type=\"box\" size=\".1 .2 .3\" pos=\"" + triple(0.2) + "\" euler=\"" + triple(1) +
+         "\"/></body></body></worldbody></mujoco>";
+}
+
+TEST(Mjcf, JointSetsMatchMuJoCo) {
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 60; ++trial) {
+    const std::string text = random_joint_set_model(&rng);
+    SCOPED_TRACE(text);
+    const std::string path = temp_file("joint_set.xml", text);
+    Mechanism mech = load_mjcf(path);
+    const ModelPtr model = mujoco_model(path);
+    ASSERT_TRUE(model);
+    const DataPtr data(mj_makeData(model.get()));
+    kinematics(model.get(), data.get());
+    expect_joints_match(model.get(), data.get(), &mech, &rng);
+  }
 }
 
 // Body velocities of MuJoCo's motion qvel (v at the centre of mass, w; world).
@@ -426,7 +553,7 @@ TEST(Mjcf, DroppedIsCountedAndDescribed) {
   load_mjcf(kModels + "/humanoid/humanoid.xml", &dropped);
   EXPECT_EQ(dropped.geoms, 0) << "planes, spheres and capsules: all shapes";
   EXPECT_EQ(dropped.actuators, 21);
-  EXPECT_EQ(dropped.ranges, 6) << "the two hips' three hinges";
+  EXPECT_EQ(dropped.ranges, 0) << "the hips' three hinges: a joint set with its ranges";
   const std::string line = describe(dropped);
   EXPECT_EQ(line.find("geoms"), std::string::npos) << line;
   EXPECT_NE(line.find("21 actuators"), std::string::npos) << line;
@@ -476,6 +603,116 @@ TEST(Mjcf, HumanoidShapesMatchMuJoCo) {
 // Constraint::collide as MuJoCo's body-pair filter: a body collides with the world it is
 // hinged to, not with a moving parent unless filterparent is disabled; bodies welded together
 // (no joint) never; an equality between unrelated bodies does not keep them apart.
+// Every Gymnasium model steps 10 s of its own timestep, passive, with the ldl-pgs solver: every
+// step sound (run_failure), its joints and ranges held within 1e-6 (m, rad) at the end of every
+// step, and its contacts within the slop plus 1 mm. A model that starts outside a range (the
+// ant's ankles, 30 degrees out at qpos0) is held from the step its ranges are first met, within
+// 10 steps. The limits' LCP is solved by the schur schedule: the default talk schedule leaves
+// inverted_pendulum's pole 1e-4 m off where it strikes its range (papers/physics.md, "MJCF
+// models: Gymnasium's").
+TEST(Mjcf, GymnasiumModelsStepTenSeconds) {
+  for (const std::string& path : gymnasium_models()) {
+    SCOPED_TRACE(path);
+    Mechanism m = load_mjcf(path);
+    StepOptions options;
+    options.solver.kind = SolverKind::ldl_pgs;
+    options.solver.schedule = HybridSchedule::schur;
+    options.diagnostics = true;
+    const double size = mechanism_size(m);
+    const int steps = static_cast<int>(std::lround(10.0 / m.timestep));
+    const ConstraintError initial = constraint_error(m);
+    bool held = initial.position_max <= 1e-6 && initial.angular_max <= 1e-6;
+    int settled_at = 0;
+    Simulation sim(std::move(m), options);
+    ConstraintError worst;
+    double penetration = 0;
+    for (int s = 1; s <= steps; ++s) {
+      const StepReport r = sim.step();
+      const std::string failure = run_failure(r, size);
+      ASSERT_TRUE(failure.empty()) << "step " << s << ": " << failure;
+      penetration = std::max(penetration, r.penetration_max_m);
+      if (!held) {
+        held = r.error.position_max <= 1e-6 && r.error.angular_max <= 1e-6;
+        settled_at = s;
+        continue;
+      }
+      worst.position_max = std::max(worst.position_max, r.error.position_max);
+      worst.angular_max = std::max(worst.angular_max, r.error.angular_max);
+    }
+    std::printf("%s: %d steps, ranges met at step %d, then joints %.3g m / %.3g rad; penetration %.3g m\n",
+                std::filesystem::path(path).filename().c_str(), steps, settled_at, worst.position_max,
+                worst.angular_max, penetration);
+    EXPECT_LE(settled_at, 10);
+    EXPECT_LE(worst.position_max, 1e-6);
+    EXPECT_LE(worst.angular_max, 1e-6);
+    EXPECT_LE(penetration, options.contacts.slop + 1e-3);
+  }
+}
+
+// MuJoCo's <flag> switches: each one off removes what it names, and nothing else.
+TEST(Mjcf, FlagsAreHonoured) {
+  // a cart on a rail (slide, limited), a pole (hinge, limited, damped), a ball held to the pole by
+  // a connect, a motor, all above a floor
+  const std::string body =
+      "<worldbody><geom name=\"floor\" type=\"plane\" size=\"5 5 .1\"/>"
+      "<body name=\"cart\" pos=\"0 0 .2\"><joint name=\"rail\" type=\"slide\" axis=\"1 0 0\" limited=\"true\" "
+      "range=\"-1 1\"/><geom type=\"box\" size=\".2 .1 .1\"/>"
+      "<body name=\"pole\"><joint name=\"hinge\" axis=\"0 1 0\" limited=\"true\" range=\"-1 1\" damping=\"1\"/>"
+      "<geom type=\"capsule\" fromto=\"0 0 0 0 0 .6\" size=\".05\"/></body></body>"
+      "<body name=\"ball\" pos=\"0 0 .9\"><freejoint/><geom size=\".05\"/></body></worldbody>"
+      "<equality><connect body1=\"pole\" body2=\"ball\" anchor=\"0 0 .6\"/></equality>"
+      "<actuator><motor joint=\"rail\"/></actuator>";
+  struct Counts {
+    Vector3d gravity;
+    int limits = 0, equalities = 0, touching_shapes = 0;
+    MjcfDropped dropped;
+  };
+  auto load = [&](const std::string& flag) {
+    const std::string path = temp_file("flags.xml", "<mujoco><compiler angle=\"radian\"/><option><flag " + flag +
+                                                        "/></option>" + body + "</mujoco>");
+    Counts c;
+    const Mechanism m = load_mjcf(path, &c.dropped);
+    c.gravity = m.gravity;
+    for (const Constraint& k : m.constraints) {
+      c.limits += k.type == ConstraintType::positional_limit || k.type == ConstraintType::angular_limit ? 1 : 0;
+      c.equalities += k.type == ConstraintType::ball ? 1 : 0;
+    }
+    for (const RigidBody& b : m.bodies)
+      for (const Shape& s : b.shapes) c.touching_shapes += s.contype != 0 || s.conaffinity != 0 ? 1 : 0;
+    return c;
+  };
+  const Counts all = load("");
+  EXPECT_EQ(all.gravity, Vector3d(0, 0, -9.81));
+  EXPECT_EQ(all.limits, 2);
+  EXPECT_EQ(all.equalities, 1);
+  EXPECT_EQ(all.touching_shapes, 4);
+  EXPECT_EQ(all.dropped.actuators, 1);
+  EXPECT_EQ(all.dropped.joint_dynamics, 1);
+  const Counts gravity = load("gravity=\"disable\"");
+  EXPECT_EQ(gravity.gravity, Vector3d::Zero());
+  EXPECT_EQ(gravity.limits, 2);
+  const Counts contact = load("contact=\"disable\"");
+  EXPECT_EQ(contact.touching_shapes, 0);
+  EXPECT_EQ(contact.limits, 2);
+  EXPECT_EQ(contact.equalities, 1);
+  const Counts limit = load("limit=\"disable\"");
+  EXPECT_EQ(limit.limits, 0);
+  EXPECT_EQ(limit.touching_shapes, 4);
+  const Counts equality = load("equality=\"disable\"");
+  EXPECT_EQ(equality.equalities, 0);
+  EXPECT_EQ(equality.limits, 2);
+  const Counts constraint = load("constraint=\"disable\"");
+  EXPECT_EQ(constraint.limits + constraint.equalities + constraint.touching_shapes, 0);
+  EXPECT_EQ(load("actuation=\"disable\"").dropped.actuators, 0);
+  EXPECT_EQ(load("passive=\"disable\"").dropped.joint_dynamics, 0);
+
+  // stepped: with contacts disabled, the ball and the cart pass through the floor
+  const std::string path = temp_file("flags.xml", "<mujoco><option><flag contact=\"disable\"/></option>" + body +
+                                                      "</mujoco>");
+  Simulation sim(load_mjcf(path), StepOptions{});
+  for (int s = 0; s < 100; ++s) EXPECT_EQ(sim.step().contacts, 0);
+}
+
 TEST(Mjcf, CollideFollowsMuJoCosFilter) {
   const std::string bodies =
       "<worldbody><body name=\"a\"><joint axis=\"1 0 0\"/><geom size=\".1\"/>"
@@ -528,28 +765,6 @@ TEST(MjcfBadInput, DirectoryNamedXml) {
 TEST(MjcfBadInput, NotXml) {
   expect_refused(temp_file("nul.xml", std::string(100000, '\0')), {"not an MJCF (XML) file"});
   expect_refused(temp_file("text.xml", "  mujoco"), {"does not start with '<'"});
-}
-
-TEST(MjcfBadInput, ThreeSlides) {
-  expect_refused(temp_file("slides.xml", "<mujoco><worldbody><body name=\"box\"><joint name=\"x\" type=\"slide\" axis=\"1 0 0\"/>"
-                                         "<joint name=\"y\" type=\"slide\" axis=\"0 1 0\"/><joint name=\"z\" type=\"slide\" "
-                                         "axis=\"0 0 1\"/>" + kBody + "</body></worldbody></mujoco>"),
-                 {"body \"box\"", "x (slide), y (slide), z (slide)", "3 rotational rows"});
-}
-
-// Two hinges on skew axes are a universal joint (the humanoid's ankles); three are not a ball.
-TEST(MjcfBadInput, ThreeHingesWhoseAxesDoNotMeet) {
-  expect_refused(temp_file("offset.xml", "<mujoco><worldbody><body name=\"arm\"><joint name=\"a\" axis=\"1 0 0\"/>"
-                                         "<joint name=\"b\" axis=\"0 1 0\" pos=\"0 0 .5\"/><joint name=\"c\" "
-                                         "axis=\"0 0 1\"/>" + kBody + "</body></worldbody></mujoco>"),
-                 {"body \"arm\"", "a (hinge), b (hinge), c (hinge)", "do not meet"});
-}
-
-TEST(MjcfBadInput, HingeAndSlideOnDifferentAxes) {
-  expect_refused(temp_file("hs.xml", "<mujoco><worldbody><body name=\"arm\"><joint name=\"a\" axis=\"1 0 0\"/>"
-                                     "<joint name=\"b\" type=\"slide\" axis=\"0 1 0\"/>" + kBody +
-                                     "</body></worldbody></mujoco>"),
-                 {"body \"arm\"", "a (hinge), b (slide)", "different axes"});
 }
 
 // MuJoCo accepts a sphere of 2e9 m and a negative friction; shape_problem does not (MuJoCo
@@ -640,8 +855,9 @@ TEST(LdlpgsRobust, MjcfCompiledTimestepMustBePositive) {
 // Two or three hinges whose axes are independent only to rounding: axes 1e-8 apart passed the
 // fixed 1e-9 test and gave an H of NaN (1 - k^2 rounded to 0). Now such a model is refused, and
 // every model that loads has finite J, W and H, whatever the angle and the anchors' scale.
-TEST(LdlpgsRobust, MjcfNearParallelHingesAreRefusedOrFinite) {
-  int refused = 0, loaded = 0;
+// Nearly parallel (or coplanar) hinge axes: a joint_set whose rank test treats them as dependent
+// or not, but never rows that are not finite.
+TEST(LdlpgsRobust, MjcfNearParallelHingesStayFinite) {
   for (double scale : {1.0, 1e3}) {
     for (double d : {1e-12, 1e-10, 1e-8, 1e-6, 1e-4, 1e-3, 1e-2}) {
       for (int hinges : {2, 3}) {
@@ -661,13 +877,6 @@ TEST(LdlpgsRobust, MjcfNearParallelHingesAreRefusedOrFinite) {
                         scale, d, third, kBody.c_str());
         SCOPED_TRACE(text);
         const std::string path = temp_file("parallel.xml", text);
-        const std::string message = load_error(path);
-        if (!message.empty()) {
-          ++refused;
-          EXPECT_NE(message.find("dependent"), std::string::npos) << message;
-          continue;
-        }
-        ++loaded;
         const Mechanism m = load_mjcf(path);
         const System s = build_system(m, StepOptions{});
         std::vector<int> sizes;
@@ -679,18 +888,17 @@ TEST(LdlpgsRobust, MjcfNearParallelHingesAreRefusedOrFinite) {
       }
     }
   }
-  EXPECT_GT(refused, 0);
-  EXPECT_GT(loaded, 0);
 }
 
 // Names, paths and MuJoCo's own messages come from the file: quoted escaped and bounded.
 TEST(LdlpgsRobust, MjcfMessagesAreOneBoundedPrintableLine) {
   const std::string long_name(5000, 'x');
-  const std::string slides = temp_file(
-      "slides.xml", "<mujoco><worldbody><body name=\"" + long_name + "&#10;&#7;\"><joint type=\"slide\" axis=\"1 0 0\"/>"
-                    "<joint type=\"slide\" axis=\"0 1 0\"/>" + kBody + "</body></worldbody></mujoco>");
+  std::string thirteen;  // more dofs on one body than a joint set holds
+  for (int j = 0; j < 13; ++j) thirteen += "<joint type=\"slide\" axis=\"1 0 0\"/>";
+  const std::string slides = temp_file("slides.xml", "<mujoco><worldbody><body name=\"" + long_name + "&#10;&#7;\">" +
+                                                         thirteen + kBody + "</body></worldbody></mujoco>");
   const std::string broken = temp_file("broken.xml", "<mujoco><worldbody><body name=\"" + long_name + "\x01\">" + long_name);
-  std::string joints;  // 200 slides of long names: the refusal lists them all
+  std::string joints;  // 200 slides of long names: the refusal names the body
   for (int j = 0; j < 200; ++j) joints += "<joint name=\"" + long_name.substr(0, 70) + std::to_string(j) + "\" type=\"slide\"/>";
   const std::string many = temp_file("many.xml", "<mujoco><worldbody><body>" + joints + kBody + "</body></worldbody></mujoco>");
   for (const std::string& path : {slides, broken, many}) {

@@ -78,6 +78,15 @@ Mechanism hub_mechanism(unsigned seed) {
   m.add_constraint(make_positional_limit(h, bs[h], other[2], bs[other[2]], on_hub(-0.3), axis, -0.2, 0.3));
   m.add_constraint(make_axial(ConstraintType::hinge, 0, bs[0], h, bs[h], on_hub(0.5), Vector3d(1, 0.2, 0)));
   m.add_constraint(make_ball(other[7], bs[other[7]], h, bs[h], on_hub(0.8)));
+  // joint sets (joint_set.h), the hub their parent and their child, and a coordinate's limit
+  const Constraint set = make_joint_set(h, bs[h], other[3], bs[other[3]],
+                                        {{ChainJointType::hinge, axis.normalized(), on_hub(-0.2)},
+                                         {ChainJointType::slide, Vector3d::UnitX(), Vector3d::Zero()}});
+  m.add_constraint(set);
+  m.add_constraint(make_coordinate_limit(set, 0, -0.5, 0.4));
+  m.add_constraint(make_joint_set(other[7], bs[other[7]], h, bs[h],
+                                  {{ChainJointType::hinge, Vector3d::UnitY(), on_hub(0.7)},
+                                   {ChainJointType::hinge, Vector3d::UnitZ(), on_hub(0.75)}}));
   // one constraint not on the hub: it must be left as it is
   m.add_constraint(make_ball(other[0], bs[other[0]], other[1], bs[other[1]], bs[other[0]].position));
   return m;
@@ -100,8 +109,8 @@ Matrix3d inertia_about(const Mechanism& m, const std::vector<int>& ids, const Ve
 std::vector<int> degrees(const Mechanism& m) {
   std::vector<int> d(m.bodies.size(), 0);
   for (const Constraint& c : m.constraints) {
-    d[c.body_a] += num_rows(c.type);
-    d[c.body_b] += num_rows(c.type);
+    d[c.body_a] += num_rows(c);
+    d[c.body_b] += num_rows(c);
   }
   return d;
 }
@@ -285,7 +294,7 @@ void expect_balanced(const Mechanism& m, int body, int k) {
   SCOPED_TRACE(::testing::Message() << m.name << ", k " << k);
   int largest = 0;
   for (const Constraint& c : m.constraints)
-    if (c.body_a == body || c.body_b == body) largest = std::max(largest, num_rows(c.type));
+    if (c.body_a == body || c.body_b == body) largest = std::max(largest, num_rows(c));
   std::vector<int> ids;
   const Mechanism s = shatter_body(m, body, k, &ids);
   const std::vector<int> d = degrees(s);
