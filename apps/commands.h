@@ -23,6 +23,7 @@ Command add_export_command(CLI::App& app);
 Command add_spy_command(CLI::App& app);
 Command add_sweep_command(CLI::App& app);
 Command add_peers_command(CLI::App& app);
+Command add_models_command(CLI::App& app);
 
 // A scene stepped as `ldlpgs view SCENE --steps N --html-file FILE` steps it, nothing printed:
 // the report's viewer pages. What the page shows, for the report's caption.

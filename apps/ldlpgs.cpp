@@ -137,7 +137,7 @@ Commands add_commands(CLI::App& app) {
   for (auto make : {ldlpgs::cli::add_order_command, ldlpgs::cli::add_report_command, ldlpgs::cli::add_verify_command,
                     ldlpgs::cli::add_bench_command, ldlpgs::cli::add_step_command, ldlpgs::cli::add_view_command,
                     ldlpgs::cli::add_export_command, ldlpgs::cli::add_spy_command, ldlpgs::cli::add_sweep_command,
-                    ldlpgs::cli::add_peers_command}) {
+                    ldlpgs::cli::add_peers_command, ldlpgs::cli::add_models_command}) {
     const size_t before = app.get_subcommands({}).size();
     ldlpgs::cli::Command run = make(app);
     commands[app.get_subcommands({})[before]] = std::move(run);

@@ -104,4 +104,12 @@ void progress(const std::string& command, const std::string& what) {
   std::fprintf(stderr, "ldlpgs %s: %s\n", command.c_str(), what.c_str());
 }
 
+HybridSchedule schedule_option(const char* flag, const std::string& value) {
+  HybridSchedule schedule;
+  if (hybrid_schedule_from_string(value, &schedule)) return schedule;
+  std::string known;
+  for (const char* name : hybrid_schedule_names()) known = known + " " + name;
+  throw InputError(flag + (" " + value) + ": unknown schedule (known:" + known + ")");
+}
+
 }  // namespace ldlpgs::cli

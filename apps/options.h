@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "ldlpgs/solver/solver.h"
+
 namespace ldlpgs::cli {
 
 // The positional PROBLEM of order, verify and bench: a Matrix Market file or FAMILY:CONSTRAINTS
@@ -26,6 +28,9 @@ void add_problem_options(CLI::App* cmd, ProblemArgs* a);
 // --ordering NAME; with `list`, comma-separated names or `all` (order, report), where the old
 // --orderings stays a hidden alias.
 void add_ordering_option(CLI::App* cmd, std::string* ordering, const std::string& help, bool list = false);
+
+// A schedule option's value (--schedule, --contact-schedule), or an InputError listing the names.
+HybridSchedule schedule_option(const char* flag, const std::string& value);
 
 // --json: the command's one JSON object on standard output instead of its table.
 void add_json_flag(CLI::App* cmd, bool* json);

@@ -52,15 +52,6 @@ struct StepArgs {
   ShatterArgs shatter;
 };
 
-// A schedule option's value, or an InputError listing the names.
-HybridSchedule schedule_option(const char* flag, const std::string& value) {
-  HybridSchedule schedule;
-  if (hybrid_schedule_from_string(value, &schedule)) return schedule;
-  std::string known;
-  for (const char* name : hybrid_schedule_names()) known = known + " " + name;
-  throw InputError(flag + (" " + value) + ": unknown schedule (known:" + known + ")");
-}
-
 StepOptions step_options(const StepArgs& a) {
   StepOptions o;
   if (!solver_kind_from_string(a.solver, &o.solver.kind)) {

@@ -2,6 +2,7 @@
 // the file, line and problem, exit code 2, no crash.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 
 #include "tests/support/program.h"
@@ -247,6 +248,20 @@ TEST(LdlpgsBadInput, StepMjcfWithAConstructWeCannotRepresent) {
     <geom size=".1"/><body name="hand"><joint name="b"/><geom size=".1"/></body></body></worldbody>
     <equality><joint name="gear" joint1="a" joint2="b"/></equality></mujoco>)");
   expect_input_error("step " + path, {"coupled.xml", "equality \"gear\" (joint)", "couples joint values"});
+}
+
+TEST(LdlpgsBadInput, ModelsOfAPathThatIsNotThere) {
+  expect_input_error("models /nonexistent/model.xml", {"/nonexistent/model.xml", "no such file or folder"});
+}
+
+TEST(LdlpgsBadInput, ModelsOfAFolderWithoutModels) {
+  const std::string dir = temp_path("no-models");
+  std::filesystem::create_directories(dir);
+  expect_input_error("models " + dir, {"no-models", "no MJCF (*.xml) files"});
+}
+
+TEST(LdlpgsBadInput, ModelsWithAnUnknownSchedule) {
+  expect_input_error("models " + kGymnasium + "/point.xml --schedule fast", {"--schedule fast", "unknown schedule"});
 }
 
 TEST(LdlpgsBadInput, ExportUnparsableMjcf) {

@@ -129,6 +129,7 @@ TEST(LdlpgsVocabulary, EverySubcommandsJsonSpeaksIt) {
       {"spy", "spy four-bar --json"},
       {"sweep", "sweep --cases four-bar --iterations 1 --seconds 0.1 --json"},
       {"peers", "peers pendulum --seconds 0.05 --json"},
+      {"models", "models " + kGymnasium + "/hopper.xml " + temp_file("refused.xml", "<mujoco>") + " --steps 3 --json"},
   };
   for (const auto& [command, args] : runs) {
     const nlohmann::json j = json_of(args);

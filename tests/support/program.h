@@ -56,6 +56,7 @@ inline nlohmann::json json_of(const std::string& args) {
 }
 
 inline const std::string kMatrices = LDLPGS_MATRICES;
+inline const std::string kGymnasium = std::string(LDLPGS_TESTDATA) + "/mjcf/gymnasium";  // MJCF models
 
 // A singular matrix is a numerical failure, not bad input (exit 1, not 2): diag(2, 0, 3) stops
 // every sparse solver at row 1 whatever the order, and each says so in its own words (ours and
