@@ -649,6 +649,74 @@ TEST(Mjcf, GymnasiumModelsStepTenSeconds) {
   }
 }
 
+// The Gymnasium models without contacts, and the planar walkers with contacts off (in free fall:
+// their roots are joint sets), against MuJoCo itself: every dof started at 0.5 (rad or m)/s, the
+// bodies' centres after 1 s of our steps at the model's timestep against MuJoCo's RK4 at 1e-4 s,
+// beside MuJoCo's own semi-implicit Euler at the model's timestep (ours is one too). Both sides
+// with what the conversion drops switched off (passive forces, armature, friction loss, fluid,
+// actuation): this checks the bodies' inertia frames, the joints' rows and the limits, not those.
+// Ours must be within twice MuJoCo's Euler error, or 1e-3 m.
+struct Fidelity {
+  double ours = 0, euler = 0;  // largest |x_b - x_b(RK4)| over the bodies at 1 s (m)
+};
+
+ModelPtr stripped_model(const std::string& path, int integrator, double timestep) {
+  ModelPtr m = mujoco_model(path);
+  m->opt.disableflags |= mjDSBL_PASSIVE | mjDSBL_ACTUATION | mjDSBL_FRICTIONLOSS | mjDSBL_CONTACT;
+  for (int k = 0; k < m->nv; ++k) m->dof_armature[k] = m->dof_damping[k] = m->dof_frictionloss[k] = 0;
+  for (int j = 0; j < m->njnt; ++j) m->jnt_stiffness[j] = 0;
+  m->opt.density = m->opt.viscosity = 0;
+  m->opt.integrator = integrator;
+  m->opt.timestep = timestep;
+  return m;
+}
+
+// MuJoCo's centres of mass (xipos) after `seconds` from qpos0 at qvel = 0.5.
+std::vector<Vector3d> mujoco_run(const mjModel* m, double seconds) {
+  const DataPtr data(mj_makeData(m));
+  mjData* d = data.get();
+  for (int k = 0; k < m->nv; ++k) d->qvel[k] = 0.5;
+  const int steps = static_cast<int>(std::lround(seconds / m->opt.timestep));
+  for (int s = 0; s < steps; ++s) mj_step(m, d);
+  std::vector<Vector3d> x;
+  for (int b = 0; b < m->nbody; ++b) x.emplace_back(d->xipos + 3 * b);
+  return x;
+}
+
+Fidelity fidelity(const std::string& path) {
+  constexpr double kSeconds = 1;
+  Mechanism mech = load_mjcf(path);
+  for (RigidBody& b : mech.bodies) b.shapes.clear();  // contacts off, as in MuJoCo's runs
+  const ModelPtr reference = stripped_model(path, mjINT_RK4, 1e-4);
+  const ModelPtr euler = stripped_model(path, mjINT_EULER, mech.timestep);
+  {
+    const DataPtr data(mj_makeData(euler.get()));
+    for (int k = 0; k < euler->nv; ++k) data->qvel[k] = 0.5;
+    kinematics(euler.get(), data.get());
+    set_velocities(euler.get(), data.get(), &mech);
+  }
+  const int steps = static_cast<int>(std::lround(kSeconds / mech.timestep));
+  Simulation sim(std::move(mech), StepOptions{});
+  for (int s = 0; s < steps; ++s) sim.step();
+  const std::vector<Vector3d> exact = mujoco_run(reference.get(), kSeconds);
+  const std::vector<Vector3d> theirs = mujoco_run(euler.get(), kSeconds);
+  Fidelity f;
+  for (size_t b = 0; b < exact.size(); ++b) {
+    f.ours = std::max(f.ours, (sim.mechanism().bodies[b].position - exact[b]).norm());
+    f.euler = std::max(f.euler, (theirs[b] - exact[b]).norm());
+  }
+  return f;
+}
+
+TEST(Mjcf, GymnasiumModelsMoveAsMuJoCoMovesThem) {
+  for (const char* name : {"inverted_pendulum", "inverted_double_pendulum", "reacher", "swimmer", "hopper",
+                           "walker2d", "walker2d_v5", "half_cheetah"}) {
+    const Fidelity f = fidelity(kGymnasium + "/" + name + ".xml");
+    std::printf("%s: 1 s, against MuJoCo's RK4 at 1e-4 s: ours %.3g m, MuJoCo's Euler %.3g m\n", name, f.ours, f.euler);
+    EXPECT_LE(f.ours, std::max(2 * f.euler, 1e-3)) << name;
+  }
+}
+
 // MuJoCo's <flag> switches: each one off removes what it names, and nothing else.
 TEST(Mjcf, FlagsAreHonoured) {
   // a cart on a rail (slide, limited), a pole (hinge, limited, damped), a ball held to the pole by
