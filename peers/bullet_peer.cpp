@@ -57,6 +57,10 @@ std::unique_ptr<btCollisionShape> bullet_shape(const Shape& s) {
     case ShapeType::sphere: return std::make_unique<btSphereShape>(s.radius);
     case ShapeType::capsule: return std::make_unique<btCapsuleShapeZ>(s.radius, 2 * s.half_length);
     case ShapeType::box: return std::make_unique<btBoxShape>(bt(s.half_extents));
+    case ShapeType::cylinder: return std::make_unique<btCylinderShapeZ>(btVector3(s.radius, s.radius, s.half_length));
+    case ShapeType::ellipsoid:
+    case ShapeType::convex:
+    case ShapeType::heightfield: break;  // (run_bullet skips mechanisms with these)
   }
   return nullptr;
 }
@@ -102,6 +106,9 @@ PeerResult run_bullet(const Mechanism& m, double seconds, int iterations, bool t
   PeerResult r;
   r.skipped = unsupported(m, {ConstraintType::ball, ConstraintType::hinge, ConstraintType::prismatic,
                               ConstraintType::cylindrical, ConstraintType::weld}, "Bullet");
+  if (r.ran())
+    r.skipped = unsupported(m, {ShapeType::plane, ShapeType::sphere, ShapeType::capsule, ShapeType::box, ShapeType::cylinder},
+                            "Bullet");
   if (!r.ran()) return r;
   // Declared before the world, so they outlive it (its destructor walks its objects).
   btEmptyShape empty;

@@ -51,6 +51,10 @@ namespace ldlpgs::peers {
 
 namespace {
 
+// The shapes MuJoCo's geoms express here (convex hulls and heightfields would need assets).
+const std::initializer_list<ShapeType> kMujocoShapes = {ShapeType::plane, ShapeType::sphere,   ShapeType::capsule,
+                                                        ShapeType::box,   ShapeType::cylinder, ShapeType::ellipsoid};
+
 constexpr double kHingeArm = 0.1;  // m: the second connect's offset along a hinge's axis
 
 struct Connect {
@@ -93,7 +97,11 @@ std::string geoms(const RigidBody& b) {
       case ShapeType::plane: x << "0 0 1"; break;
       case ShapeType::sphere: x << s.radius; break;
       case ShapeType::capsule: x << s.radius << ' ' << s.half_length; break;
-      case ShapeType::box: x << v3(s.half_extents); break;
+      case ShapeType::box:
+      case ShapeType::ellipsoid: x << v3(s.half_extents); break;
+      case ShapeType::cylinder: x << s.radius << ' ' << s.half_length; break;
+      case ShapeType::convex:
+      case ShapeType::heightfield: break;  // (the MuJoCo peers skip mechanisms with these)
     }
     const Eigen::Quaterniond q = s.type == ShapeType::plane
                                      ? Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), s.normal)
@@ -214,6 +222,7 @@ void step_and_record(const mjModel* model, mjData* data, const Mechanism& m, dou
 PeerResult run_mujoco(const Mechanism& m, double seconds) {
   PeerResult r;
   r.skipped = unsupported(m, {ConstraintType::ball, ConstraintType::hinge, ConstraintType::weld}, "MuJoCo");
+  if (r.ran()) r.skipped = unsupported(m, kMujocoShapes, "MuJoCo");
   if (!r.ran()) return r;
   std::vector<Connect> connects;
   int rows = 0;
@@ -368,6 +377,7 @@ PeerResult run_mujoco_tree(const Mechanism& scene, double seconds, bool rk4) {
   PeerResult r;
   r.skipped = unsupported(m, {ConstraintType::ball, ConstraintType::hinge, ConstraintType::prismatic,
                               ConstraintType::weld}, "MuJoCo (reduced coordinates)");
+  if (r.ran()) r.skipped = unsupported(m, kMujocoShapes, "MuJoCo (reduced coordinates)");
   Forest f;
   if (r.ran()) r.skipped = forest(m, &f);
   if (!r.ran()) return r;

@@ -99,6 +99,10 @@ void make_geoms(const Mechanism& m, const std::vector<dBodyID>& body, World* wor
         case ShapeType::box:
           g = dCreateBox(world->space, 2 * s.half_extents.x(), 2 * s.half_extents.y(), 2 * s.half_extents.z());
           break;
+        case ShapeType::cylinder: g = dCreateCylinder(world->space, s.radius, 2 * s.half_length); break;
+        case ShapeType::ellipsoid:
+        case ShapeType::convex:
+        case ShapeType::heightfield: break;  // (run_ode skips mechanisms with these)
       }
       dGeomSetData(g, reinterpret_cast<void*>(c->owner.size()));
       c->owner.push_back({b, k});
@@ -133,6 +137,9 @@ PeerResult run_ode(const Mechanism& m, double seconds, int quickstep_iterations)
   PeerResult r;
   r.skipped = unsupported(m, {ConstraintType::ball, ConstraintType::hinge, ConstraintType::prismatic,
                               ConstraintType::cylindrical, ConstraintType::weld}, "ODE");
+  if (r.ran())
+    r.skipped = unsupported(m, {ShapeType::plane, ShapeType::sphere, ShapeType::capsule, ShapeType::box, ShapeType::cylinder},
+                            "ODE");
   if (!r.ran()) return r;
   World world;
   dRandSetSeed(0);  // QuickStep shuffles its rows with ODE's global generator: the same run each time

@@ -160,6 +160,21 @@ std::string unsupported(const Mechanism& m, std::initializer_list<ConstraintType
   return "";
 }
 
+std::string unsupported(const Mechanism& m, std::initializer_list<ShapeType> supported, std::string_view engine) {
+  for (const RigidBody& b : m.bodies)
+    for (const Shape& s : b.shapes)
+      if (std::find(supported.begin(), supported.end(), s.type) == supported.end()) {
+        std::string why(engine);
+        why += " cannot express a ";
+        why += to_string(s.type);
+        why += " shape (body ";
+        why += b.name;
+        why += ")";
+        return why;
+      }
+  return "";
+}
+
 void record_poses(const Mechanism& state, PeerResult* r) {
   for (const RigidBody& b : state.bodies) {
     r->positions.push_back(b.position);

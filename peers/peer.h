@@ -73,6 +73,8 @@ PeerEngine mjcf_peer(const std::string& path);
 int peer_steps(const Mechanism& m, double seconds);
 // "" if every constraint's type is in `supported`, else "ENGINE cannot express TYPE (constraint I)".
 std::string unsupported(const Mechanism& m, std::initializer_list<ConstraintType> supported, std::string_view engine);
+// "" if every shape's type is in `supported`, else "ENGINE cannot express a TYPE shape (body NAME)".
+std::string unsupported(const Mechanism& m, std::initializer_list<ShapeType> supported, std::string_view engine);
 // The separation of one joint at the bodies' current pose, from our anchors: ball, hinge, weld:
 // the distance between the anchor on a and the anchor on b; prismatic, cylindrical: that
 // distance across the axis; rod: the change of length; inequalities: 0 (not joints).

@@ -1,7 +1,10 @@
 #pragma once
 // Collision detection: the touching shapes of a mechanism's bodies as contact points. ODE's
 // collision library does the narrow phase (dCollide's primitive pairs: up to 4 points per pair, a
-// box on a plane gets its 4 corners), chosen by measurement against Bullet and libccd; the broad
+// box on a plane gets its 4 corners; a cylinder's, hull's or heightfield's points are reduced to
+// the 4 that span them), chosen by measurement against Bullet and libccd; ellipsoids, which ODE
+// lacks, and pairs of shapes it cannot grow by a margin (hull on hull, hull on heightfield) go to
+// libccd's MPR on support functions, one point per pair (per heightfield triangle). The broad
 // phase is a sweep of ours, since ODE's spaces allocate on every pass (papers/physics.md,
 // "Collision detection").
 #include <memory>

@@ -12,7 +12,7 @@
 
 namespace ldlpgs {
 
-namespace joint_set_detail {
+namespace {
 
 using Eigen::Matrix3d;
 using Eigen::Quaterniond;
@@ -248,9 +248,8 @@ void name_rows(const ChainTwists& s, JointChain* chain) {
   chain->translational_rows = 3 - translations;
 }
 
-}  // namespace joint_set_detail
+}  // namespace
 
-using namespace joint_set_detail;
 
 std::shared_ptr<const JointChain> make_joint_chain(const RigidBody& a, const RigidBody& b,
                                                    const std::vector<ChainJoint>& world_joints) {

@@ -38,7 +38,7 @@ std::string describe(const MjcfDropped& dropped) {
     s += " ";
     s += what;
   };
-  add(dropped.geoms, "geoms of types without a shape (hfield, ellipsoid, cylinder, mesh: no contacts)");
+  add(dropped.geoms, "geoms of types without a shape (no contacts)");
   add(dropped.contact_pairs, "contact pairs and excludes");
   add(dropped.tendons, "tendons");
   add(dropped.actuators, "actuators");
@@ -227,12 +227,20 @@ class Converter {
     return J;
   }
 
-  // A geom of a type shape.h has becomes a Shape on its body; the others are dropped. MuJoCo
-  // gives the geom's pose in its body frame, ours is the inertial frame (ipos, iquat in that
-  // body frame), so: position = iquat^-1 (pos - ipos), orientation = iquat^-1 quat.
+  // A geom becomes a Shape on its body (a mesh: its convex hull, as MuJoCo collides it); a type
+  // shape.h lacks is dropped. MuJoCo gives the geom's pose in its body frame, ours is the
+  // inertial frame (ipos, iquat in that body frame), so: position = iquat^-1 (pos - ipos),
+  // orientation = iquat^-1 quat.
   void geom(int g) {
     const int b = m_->geom_bodyid[g];
     const mjtNum* size = m_->geom_size + 3 * g;  // (size 3) per type (mjmodel.h)
+    const auto refuse = [&](const std::string& problem) {
+      std::string what = "geom \"";
+      what += name(m_->name_geomadr[g], "geom", g);
+      what += "\" on ";
+      what += body_label(b);
+      fail(what, problem);
+    };
     Shape s;
     switch (m_->geom_type[g]) {
       case mjGEOM_PLANE: s.type = ShapeType::plane; break;  // size: its extent drawn; infinite in contacts
@@ -249,7 +257,62 @@ class Converter {
         s.type = ShapeType::box;
         s.half_extents = vec3(size);
         break;
-      default: ++dropped_->geoms; return;  // hfield, ellipsoid, cylinder, mesh
+      case mjGEOM_CYLINDER:  // size[0] radius, size[1] half height on the geom's z
+        s.type = ShapeType::cylinder;
+        s.radius = size[0];
+        s.half_length = size[1];
+        break;
+      case mjGEOM_ELLIPSOID:
+        s.type = ShapeType::ellipsoid;
+        s.half_extents = vec3(size);
+        break;
+      case mjGEOM_MESH: {
+        // The compiled hull (mesh_graph: numvert, numface, vert_edgeadr[numvert],
+        // vert_globalid[numvert], edge_localid[numvert + 3 numface], face_globalid[3 numface]),
+        // its vertices already in the geom's frame. MuJoCo makes none for a mesh no geom can
+        // collide with (contype = conaffinity = 0), nor with compiler convexhull="false".
+        const int mesh = m_->geom_dataid[g], adr = m_->mesh_graphadr[mesh];
+        if (adr < 0) {
+          if (m_->geom_contype[g] == 0 && m_->geom_conaffinity[g] == 0) return;  // touches nothing: no shape needed
+          refuse("its mesh has no convex hull compiled (compiler convexhull=\"false\"?): we collide meshes by theirs");
+        }
+        const int* graph = m_->mesh_graph + adr;
+        const int hull_vertices = graph[0], hull_faces = graph[1];
+        const int* vertex_id = graph + 2 + hull_vertices;
+        const int* face_id = graph + 2 + 3 * hull_vertices + 3 * hull_faces;
+        const float* vertex = m_->mesh_vert + 3 * m_->mesh_vertadr[mesh];
+        std::vector<int> hull_index(m_->mesh_vertnum[mesh], -1);  // mesh vertex -> hull vertex
+        std::vector<Vector3d> vertices;
+        for (int i = 0; i < hull_vertices; ++i) {
+          hull_index[vertex_id[i]] = i;
+          vertices.emplace_back(vertex[3 * vertex_id[i]], vertex[3 * vertex_id[i] + 1], vertex[3 * vertex_id[i] + 2]);
+        }
+        std::vector<std::array<int, 3>> faces;
+        for (int f = 0; f < hull_faces; ++f)
+          faces.push_back({hull_index[face_id[3 * f]], hull_index[face_id[3 * f + 1]], hull_index[face_id[3 * f + 2]]});
+        s.type = ShapeType::convex;
+        s.hull = std::make_shared<const ConvexHull>(make_convex_hull(std::move(vertices), std::move(faces)));
+        break;
+      }
+      case mjGEOM_HFIELD: {
+        // hfield_size: (radius x, radius y, elevation z, base z); the data 0..1 scales to the
+        // elevation, row r at y = -radius_y + r 2 radius_y / (nrow - 1), column c likewise in x
+        // (mjc_ConvexHField)
+        const int field = m_->geom_dataid[g];
+        const mjtNum* field_size = m_->hfield_size + 4 * field;
+        auto f = std::make_shared<HeightField>();
+        f->rows = m_->hfield_nrow[field];
+        f->cols = m_->hfield_ncol[field];
+        f->half_x = field_size[0];
+        f->half_y = field_size[1];
+        f->base = field_size[3];
+        const float* data = m_->hfield_data + m_->hfield_adr[field];
+        for (int k = 0; k < f->rows * f->cols; ++k) f->heights.push_back(data[k] * field_size[2]);
+        s.type = ShapeType::heightfield;
+        s.field = std::move(f);
+        break;
+      }
+      default: ++dropped_->geoms; return;  // a type MuJoCo 2.2.2 does not have
     }
     const Quaterniond to_inertial = quat(m_->body_iquat + 4 * b).conjugate();
     s.position = to_inertial * (vec3(m_->geom_pos + 3 * g) - vec3(m_->body_ipos + 3 * b));
@@ -264,13 +327,7 @@ class Converter {
     s.contype = static_cast<uint32_t>(m_->geom_contype[g]);
     s.conaffinity = static_cast<uint32_t>(m_->geom_conaffinity[g]);
     const std::string problem = shape_problem(s, at(b).is_static);
-    if (!problem.empty()) {
-      std::string what = "geom \"";
-      what += name(m_->name_geomadr[g], "geom", g);
-      what += "\" on ";
-      what += body_label(b);
-      fail(what, problem);
-    }
+    if (!problem.empty()) refuse(problem);
     out_->bodies[b].shapes.push_back(s);
   }
 

@@ -23,11 +23,15 @@
 //               Constraints: the joints' body by body, then the equalities in MuJoCo's order.
 //   equality    connect -> ball, weld -> weld (at the relative pose of qpos0, which must be the
 //               weld's relpose); joint, tendon and distance equalities are refused.
-//   geoms       plane, sphere, capsule and box become Shapes (physics/shape.h) on their body, placed
-//               in our body frame (the inertial frame: iquat^-1 (geom_pos - ipos), iquat^-1
-//               geom_quat): a sphere's radius size[0], a capsule's radius size[0] and half length
-//               size[1] along the geom's z (mjmodel.h), a box's half extents size, a plane's
-//               normal the geom's +z (infinite, as in MuJoCo's contacts: its size only draws it);
+//   geoms       every geom becomes a Shape (physics/shape.h) on its body, placed in our body
+//               frame (the inertial frame: iquat^-1 (geom_pos - ipos), iquat^-1 geom_quat): a
+//               sphere's radius size[0], a capsule's and a cylinder's radius size[0] and half
+//               length size[1] along the geom's z (mjmodel.h), a box's half extents and an
+//               ellipsoid's semi-axes size, a mesh as the convex hull MuJoCo compiled for it
+//               (mesh_graph; a mesh without one is refused, unless contype = conaffinity = 0:
+//               then it touches nothing and is left out), an hfield as a heightfield (its grid
+//               scaled by hfield_size; a moving one is refused), a plane's normal the geom's +z
+//               (infinite, as in MuJoCo's contacts: its size only draws it);
 //               friction = the sliding coefficient geom_friction[0]; contype and conaffinity
 //               copied. A shape that fails shape_problem (a plane on a moving body) is refused.
 //               Each constraint collides (Constraint::collide) as MuJoCo's body-pair filter
@@ -37,10 +41,10 @@
 //               filtered here.)
 //   options     gravity = opt.gravity, timestep = opt.timestep; MuJoCo's <flag>s are honoured:
 //               gravity (0), contact (shapes kept, touching nothing), limit, equality,
-//               constraint (all three), filterparent (the body-pair filter below); actuation,
+//               constraint (all three), filterparent (the body-pair filter above); actuation,
 //               passive and frictionloss switch off what they name (not counted as dropped).
-// Dropped, and counted in MjcfDropped: geoms of the types without a shape (hfield, ellipsoid,
-// cylinder, mesh: they touch nothing), explicit contact pairs and excludes, tendons, actuators,
+// Dropped, and counted in MjcfDropped: geoms of types without a shape (none of MuJoCo 2.2.2's),
+// explicit contact pairs and excludes, tendons, actuators,
 // sensors, joint springs, damping, armature and friction loss, the ranges of joints beside a free joint,
 // inactive equalities, keyframes (the mechanism starts at qpos0, at rest), MuJoCo's
 // soft-constraint parameters (solref, solimp: our rows are hard) and the geoms' other contact
@@ -62,7 +66,7 @@ namespace ldlpgs {
 
 // What the conversion left out (counts over the model).
 struct MjcfDropped {
-  int geoms = 0;             // of types without a shape: hfield, ellipsoid, cylinder, mesh
+  int geoms = 0;             // of types without a shape (none of MuJoCo 2.2.2's: every type converts)
   int contact_pairs = 0;     // explicit <contact> pairs and excludes
   int tendons = 0, actuators = 0, sensors = 0, keyframes = 0;
   int joint_dynamics = 0;    // joints with stiffness, damping, armature or friction loss

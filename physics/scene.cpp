@@ -250,7 +250,11 @@ std::vector<std::string_view> own_shape_keys(ShapeType type) {
     case ShapeType::plane: return {"normal"};
     case ShapeType::sphere: return {"radius"};
     case ShapeType::capsule: return {"radius", "half_length"};
-    case ShapeType::box: return {"half_extents"};
+    case ShapeType::box:
+    case ShapeType::ellipsoid: return {"half_extents"};
+    case ShapeType::cylinder: return {"radius", "half_length"};
+    case ShapeType::convex:
+    case ShapeType::heightfield: break;  // refused by parse_shape: their data has no scene-file form
   }
   return {};
 }
@@ -261,7 +265,9 @@ Shape parse_shape(const Entry& e, bool body_is_static) {
   const std::string type_name = e.string("type");
   Shape s;
   if (!shape_type_from_string(type_name, &s.type))
-    e.fail(cat("unknown shape type ", in_quotes(type_name), " (known: plane, sphere, capsule, box)"));
+    e.fail(cat("unknown shape type ", in_quotes(type_name), " (known: plane, sphere, capsule, box, cylinder, ellipsoid)"));
+  if (s.type == ShapeType::convex || s.type == ShapeType::heightfield)
+    e.fail(cat("a ", type_name, " shape has no scene-file form (its vertices or grid come from MJCF models)"));
   std::vector<std::string_view> keys = {"type", "position", "friction", "restitution", "contype", "conaffinity"};
   if (s.type != ShapeType::plane) keys.push_back("orientation");  // a plane's is its normal
   const std::vector<std::string_view> own = own_shape_keys(s.type);
@@ -275,9 +281,13 @@ Shape parse_shape(const Entry& e, bool body_is_static) {
   if (e.has("conaffinity")) s.conaffinity = e.uint32("conaffinity");
   switch (s.type) {
     case ShapeType::plane: s.normal = e.vector("normal"); break;
-    case ShapeType::capsule: s.half_length = e.number("half_length"); [[fallthrough]];
+    case ShapeType::capsule:
+    case ShapeType::cylinder: s.half_length = e.number("half_length"); [[fallthrough]];
     case ShapeType::sphere: s.radius = e.number("radius"); break;
-    case ShapeType::box: s.half_extents = e.vector("half_extents"); break;
+    case ShapeType::box:
+    case ShapeType::ellipsoid: s.half_extents = e.vector("half_extents"); break;
+    case ShapeType::convex:
+    case ShapeType::heightfield: break;  // (refused above)
   }
   const std::string problem = shape_problem(s, body_is_static);
   if (!problem.empty()) e.fail(problem);
@@ -609,9 +619,13 @@ json to_json(const Shape& s) {
   o["position"] = to_json(s.position);
   switch (s.type) {
     case ShapeType::plane: o["normal"] = to_json(s.normal); break;
-    case ShapeType::capsule: o["half_length"] = s.half_length; [[fallthrough]];
+    case ShapeType::capsule:
+    case ShapeType::cylinder: o["half_length"] = s.half_length; [[fallthrough]];
     case ShapeType::sphere: o["radius"] = s.radius; break;
-    case ShapeType::box: o["half_extents"] = to_json(s.half_extents); break;
+    case ShapeType::box:
+    case ShapeType::ellipsoid: o["half_extents"] = to_json(s.half_extents); break;
+    case ShapeType::convex:
+    case ShapeType::heightfield: break;  // (refused by scene_to_json)
   }
   if (s.type != ShapeType::plane) o["orientation"] = to_json(s.orientation.normalized());
   o["friction"] = s.friction;
@@ -687,7 +701,12 @@ json scene_to_json(const Mechanism& m) {
     }
     if (!b.shapes.empty()) {  // none is the default
       json shapes = json::array();
-      for (const Shape& s : b.shapes) shapes.push_back(to_json(s));
+      for (const Shape& s : b.shapes) {
+        if (s.type == ShapeType::convex || s.type == ShapeType::heightfield)
+          throw InputError(cat(m.name, ": body ", in_quotes(b.name), ": a ", to_string(s.type),
+                               " shape (from an MJCF model) has no scene-file form"));
+        shapes.push_back(to_json(s));
+      }
       o["shapes"] = std::move(shapes);
     }
     bodies.push_back(std::move(o));

@@ -293,7 +293,7 @@ void bind_physics(py::module_& m) {
              double restitution, uint32_t contype, uint32_t conaffinity) {
             Shape s;
             if (!shape_type_from_string(type, &s.type))
-              throw InputError("add_shape: unknown shape type \"" + type + "\" (plane, sphere, capsule, box)");
+              throw InputError("add_shape: unknown shape type \"" + type + "\" (plane, sphere, capsule, box, cylinder, ellipsoid)");
             if (!position.is_none()) s.position = vector3(position, "position");
             if (!orientation.is_none()) {
               const std::vector<double> q = orientation.cast<std::vector<double>>();
@@ -315,7 +315,8 @@ void bind_physics(py::module_& m) {
           py::arg("normal") = py::none(), py::arg("friction") = Shape{}.friction,
           py::arg("restitution") = Shape{}.restitution, py::arg("contype") = 1u, py::arg("conaffinity") = 1u,
           "A collision shape on a body (by index or name), as a scene file's \"shapes\" entry: type plane, sphere, "
-          "capsule or box; pose in the body frame; checked as scene files are (InputError).")
+          "capsule, box, cylinder (radius, half_length) or ellipsoid (half_extents: its semi-axes); pose in the "
+          "body frame; checked as scene files are (InputError).")
       .def_property_readonly(
           "contacts",
           [](const Simulation& sim) {

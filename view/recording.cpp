@@ -30,6 +30,26 @@ ShatterResult unshattered(const Mechanism& m) {
   return r;
 }
 
+// A hull or a heightfield drawn as its bounding box in its frame (the page draws no meshes).
+Solid bounding_box(Solid solid, const Shape& s) {
+  Eigen::Vector3d low, high;
+  if (s.type == ShapeType::convex) {
+    low = high = s.hull->vertices.front();
+    for (const Eigen::Vector3d& v : s.hull->vertices) {
+      low = low.cwiseMin(v);
+      high = high.cwiseMax(v);
+    }
+  } else {
+    const HeightField& f = *s.field;
+    low = Eigen::Vector3d(-f.half_x, -f.half_y, -f.base);
+    high = Eigen::Vector3d(f.half_x, f.half_y, *std::max_element(f.heights.begin(), f.heights.end()));
+  }
+  solid.type = ShapeType::box;
+  solid.position += solid.orientation * (0.5 * (low + high));
+  solid.size = 0.5 * (high - low);
+  return solid;
+}
+
 }  // namespace
 
 Recording::Recording(const Mechanism& original, const ShatterResult& shattered, const RecordOptions& options)
@@ -59,7 +79,11 @@ Recording::Recording(const Mechanism& original, const ShatterResult& shattered, 
           case ShapeType::plane: solid.size = s.normal.normalized(); break;
           case ShapeType::sphere: solid.size = {s.radius, 0, 0}; break;
           case ShapeType::capsule: solid.size = {s.radius, s.half_length, 0}; break;
-          case ShapeType::box: solid.size = s.half_extents; break;
+          case ShapeType::box:
+          case ShapeType::ellipsoid: solid.size = s.half_extents; break;
+          case ShapeType::cylinder: solid.size = {s.radius, s.half_length, 0}; break;
+          case ShapeType::convex:
+          case ShapeType::heightfield: solid = bounding_box(solid, s); break;
         }
         solids_.push_back(solid);
       }

@@ -28,7 +28,9 @@ struct Solid {
   ShapeType type = ShapeType::box;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();               // body frame
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // solid -> body frame
-  Eigen::Vector3d size = Eigen::Vector3d::Zero();  // box: half extents; sphere: radius; capsule: radius, half length; plane: normal
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();  // box, ellipsoid: half extents; sphere: radius; capsule,
+                                                   // cylinder: radius, half length; plane: normal (hulls and
+                                                   // heightfields are drawn as their bounding boxes)
   bool from_inertia = false;      // a box standing in for a body without shapes
 };
 

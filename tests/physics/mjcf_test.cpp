@@ -187,12 +187,20 @@ constexpr double kRounding = 1e-10;
 // plane's normal = geom_xmat's z (on a static body). MuJoCo's kinematics compose the poses
 // through the body frames (xpos, xquat); the converter through the inertial frame (ipos, iquat).
 struct ShapeCounts {
-  std::array<int, 4> of_type{};  // by ShapeType
+  std::array<int, 8> of_type{};  // by ShapeType
   int dropped = 0;               // geoms of the other types
 };
 
 // Geoms of the kinematics at O(10 m) (the 22 humanoids): rounding is ~1e-14.
 constexpr double kGeomPose = 1e-9;
+
+// Mesh geoms without a compiled hull (contype = conaffinity = 0: MuJoCo makes none), which touch
+// nothing and become no shape.
+int collisionless_meshes(const mjModel* m) {
+  int n = 0;
+  for (int g = 0; g < m->ngeom; ++g) n += m->geom_type[g] == mjGEOM_MESH && m->mesh_graphadr[m->geom_dataid[g]] < 0;
+  return n;
+}
 
 ShapeCounts expect_shapes_match(const mjModel* m, const mjData* d, const Mechanism& mech) {
   ShapeCounts counts;
@@ -207,8 +215,13 @@ ShapeCounts expect_shapes_match(const mjModel* m, const mjData* d, const Mechani
         case mjGEOM_SPHERE: type = ShapeType::sphere; break;
         case mjGEOM_CAPSULE: type = ShapeType::capsule; break;
         case mjGEOM_BOX: type = ShapeType::box; break;
+        case mjGEOM_CYLINDER: type = ShapeType::cylinder; break;
+        case mjGEOM_ELLIPSOID: type = ShapeType::ellipsoid; break;
+        case mjGEOM_MESH: type = ShapeType::convex; break;
+        case mjGEOM_HFIELD: type = ShapeType::heightfield; break;
         default: ++counts.dropped; continue;
       }
+      if (type == ShapeType::convex && m->mesh_graphadr[m->geom_dataid[g]] < 0) continue;  // touches nothing: no shape
       if (k == body.shapes.size()) {
         ADD_FAILURE() << "no shape for the geom";
         break;
@@ -219,9 +232,13 @@ ShapeCounts expect_shapes_match(const mjModel* m, const mjData* d, const Mechani
       const mjtNum* size = m->geom_size + 3 * g;
       switch (type) {
         case ShapeType::plane: break;  // its size only draws it
-        case ShapeType::capsule: EXPECT_EQ(s.half_length, size[1]); [[fallthrough]];
+        case ShapeType::capsule:
+        case ShapeType::cylinder: EXPECT_EQ(s.half_length, size[1]); [[fallthrough]];
         case ShapeType::sphere: EXPECT_EQ(s.radius, size[0]); break;
-        case ShapeType::box: EXPECT_EQ(s.half_extents, Vector3d(size)); break;
+        case ShapeType::box:
+        case ShapeType::ellipsoid: EXPECT_EQ(s.half_extents, Vector3d(size)); break;
+        case ShapeType::convex:
+        case ShapeType::heightfield: break;  // their data: the tests at the end of the file
       }
       EXPECT_EQ(s.friction, m->geom_friction[3 * g]);
       // (0 where a <flag> disables contacts: the shape is kept but touches nothing)
@@ -367,7 +384,9 @@ TEST(Mjcf, ShippedAndGymnasiumModelsMatchMuJoCo) {
     ASSERT_EQ(static_cast<int>(mech.bodies.size()), m->nbody);
     const ShapeCounts shapes = expect_shapes_match(m, d, mech);
     EXPECT_EQ(dropped.geoms, shapes.dropped);
-    EXPECT_EQ(shapes.of_type[0] + shapes.of_type[1] + shapes.of_type[2] + shapes.of_type[3] + shapes.dropped, m->ngeom);
+    int shape_count = 0;
+    for (int n : shapes.of_type) shape_count += n;
+    EXPECT_EQ(shape_count + shapes.dropped, m->ngeom - collisionless_meshes(m));
     double mass = 0;
     Vector3d moment = Vector3d::Zero();
     for (const RigidBody& b : mech.bodies) {
@@ -558,7 +577,7 @@ TEST(Mjcf, DroppedIsCountedAndDescribed) {
   EXPECT_EQ(line.find("geoms"), std::string::npos) << line;
   EXPECT_NE(line.find("21 actuators"), std::string::npos) << line;
   EXPECT_EQ(line.find('\n'), std::string::npos) << "one line";
-  // geoms of types without a shape, and explicit contact pairs and excludes
+  // cylinders and ellipsoids (shapes), and explicit contact pairs and excludes (dropped)
   const std::string path = temp_file("dropped.xml", "<mujoco><worldbody><body name=\"a\"><freejoint/>"
                                                     "<geom type=\"cylinder\" size=\".1 .2\"/><geom type=\"ellipsoid\" "
                                                     "size=\".1 .2 .3\"/><geom type=\"sphere\" size=\".1\"/></body>"
@@ -567,13 +586,11 @@ TEST(Mjcf, DroppedIsCountedAndDescribed) {
                                                     "</contact></mujoco>");
   dropped = MjcfDropped{};
   const Mechanism m = load_mjcf(path, &dropped);
-  EXPECT_EQ(dropped.geoms, 2);
+  EXPECT_EQ(dropped.geoms, 0) << "cylinders and ellipsoids are shapes";
   EXPECT_EQ(dropped.contact_pairs, 1);
-  EXPECT_EQ(m.bodies[1].shapes.size(), 1u);
+  EXPECT_EQ(m.bodies[1].shapes.size(), 3u);
   EXPECT_EQ(m.bodies[2].shapes.size(), 1u);
-  EXPECT_EQ(describe(dropped),
-            "dropped: 2 geoms of types without a shape (hfield, ellipsoid, cylinder, mesh: no contacts), "
-            "1 contact pairs and excludes");
+  EXPECT_EQ(describe(dropped), "dropped: 1 contact pairs and excludes");
 }
 
 // The humanoid's geoms: the floor a plane on the static world, 16 capsules and 3 spheres on the
@@ -976,6 +993,177 @@ TEST(LdlpgsRobust, MjcfMessagesAreOneBoundedPrintableLine) {
     EXPECT_TRUE(std::none_of(message.begin(), message.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20; }))
         << message;
   }
+}
+
+// ---- geoms of every type: converted, and colliding as MuJoCo's do ----
+
+// Every shipped and Gymnasium model that loads converts every geom: nothing dropped, each
+// cylinder, ellipsoid, mesh and hfield a shape of its kind (a mesh no geom can collide with
+// excepted: MuJoCo compiles no hull for it and it touches nothing).
+TEST(Mjcf, EveryGeomTypeConvertsWithNothingDropped) {
+  std::vector<std::string> paths = shipped_models();
+  const std::vector<std::string> gymnasium = gymnasium_models();
+  paths.insert(paths.end(), gymnasium.begin(), gymnasium.end());
+  std::array<int, 8> converted{}, in_models{};  // by ShapeType
+  for (const std::string& path : paths) {
+    MjcfDropped dropped;
+    Mechanism mech;
+    try {
+      mech = load_mjcf(path, &dropped);
+    } catch (const InputError&) {
+      continue;  // (refused for its joints or equalities: Mjcf.ShippedAndGymnasiumModelsMatchMuJoCo)
+    }
+    SCOPED_TRACE(path);
+    EXPECT_EQ(dropped.geoms, 0);
+    const ModelPtr model = mujoco_model(path);
+    ASSERT_TRUE(model);
+    const mjModel* m = model.get();
+    std::array<int, 8> expected{}, ours{};
+    for (int g = 0; g < m->ngeom; ++g) {
+      const int t = m->geom_type[g];
+      if (t == mjGEOM_MESH && m->mesh_graphadr[m->geom_dataid[g]] < 0) continue;
+      const ShapeType type = t == mjGEOM_CYLINDER    ? ShapeType::cylinder
+                             : t == mjGEOM_ELLIPSOID ? ShapeType::ellipsoid
+                             : t == mjGEOM_MESH      ? ShapeType::convex
+                             : t == mjGEOM_HFIELD    ? ShapeType::heightfield
+                                                     : ShapeType::plane;  // (the old four: not counted here)
+      if (type != ShapeType::plane) ++expected[static_cast<int>(type)];
+    }
+    for (const RigidBody& b : mech.bodies)
+      for (const Shape& s : b.shapes)
+        if (static_cast<int>(s.type) > static_cast<int>(ShapeType::box)) ++ours[static_cast<int>(s.type)];
+    EXPECT_EQ(ours, expected);
+    for (int k = 0; k < 8; ++k) {
+      converted[k] += ours[k];
+      in_models[k] += expected[k];
+    }
+  }
+  std::printf("converted: %d cylinders, %d ellipsoids, %d meshes, %d hfields\n", converted[4], converted[5], converted[6],
+              converted[7]);
+  EXPECT_GT(converted[static_cast<int>(ShapeType::cylinder)], 0);
+  EXPECT_GT(converted[static_cast<int>(ShapeType::ellipsoid)], 0);
+}
+
+// The height of body "b"'s free joint at which its geom just touches the world's (MuJoCo's
+// contacts, bisected to 1e-10 m between `low`, touching, and `high`, apart).
+double touching_height(const std::string& path, double low, double high) {
+  const ModelPtr model = mujoco_model(path);
+  if (!model) return 0;
+  const DataPtr data(mj_makeData(model.get()));
+  mjData* d = data.get();
+  while (high - low > 1e-10) {
+    const double z = 0.5 * (low + high);
+    mju_copy(d->qpos, model->qpos0, model->nq);
+    d->qpos[2] = z;
+    mj_forward(model.get(), d);
+    (d->ncon > 0 ? low : high) = z;
+  }
+  return 0.5 * (low + high);
+}
+
+// The deepest contact point: depth and normal (from the world into the body).
+struct Deepest {
+  double depth = -1;
+  Vector3d normal = Vector3d::Zero();
+};
+
+Deepest mujoco_deepest(const std::string& path) {
+  Deepest r;
+  const ModelPtr model = mujoco_model(path);
+  if (!model) return r;
+  const DataPtr data(mj_makeData(model.get()));
+  mj_forward(model.get(), data.get());
+  for (int i = 0; i < data->ncon; ++i) {
+    const mjContact& c = data->contact[i];
+    if (-c.dist <= r.depth) continue;
+    r.depth = -c.dist;
+    const bool world_first = model->body_weldid[model->geom_bodyid[c.geom1]] == 0;  // frame: geom1 -> geom2
+    r.normal = (world_first ? 1.0 : -1.0) * Vector3d(c.frame);
+  }
+  return r;
+}
+
+Deepest our_deepest(const Mechanism& mech) {
+  Deepest r;
+  CollisionWorld world(mech);
+  std::vector<ContactPoint> points;
+  world.detect(mech, 0, 0, &points);
+  for (const ContactPoint& p : points)
+    if (p.depth > r.depth) {
+      r.depth = p.depth;
+      r.normal = p.normal;  // (body a is the world, body 0)
+    }
+  return r;
+}
+
+// A free body "b" with one geom of each new type, turned and offset in its body, 1 cm into the
+// world's floor (a plane, or an hfield read from a file of MuJoCo's own format) at the height
+// MuJoCo finds it touching: our deepest contact is MuJoCo's (mj_collision's), depth and normal.
+// MuJoCo's cylinder, mesh and ellipsoid against a plane are exact (its support points), its
+// hfield prisms are MPR's (tolerance 1e-6); ours are ODE's geometry and libccd's MPR.
+TEST(Mjcf, NewGeomTypesCollideAsMuJoCosDo) {
+  // a 5 x 6 grid of uneven heights (MuJoCo normalizes them to 0..1 of the elevation 0.3 m)
+  const int rows = 5, cols = 6;
+  const int32_t dims[2] = {rows, cols};
+  std::string grid(reinterpret_cast<const char*>(dims), 8);
+  for (int k = 0; k < rows * cols; ++k) {
+    const float h = static_cast<float>(0.5 + 0.5 * std::sin(1.7 * k) * std::cos(0.9 * (k % cols)));
+    grid.append(reinterpret_cast<const char*>(&h), 4);
+  }
+  const std::string grid_path = temp_file("grid.bin", grid);
+  const std::string plane = "<geom type=\"plane\" size=\"5 5 .1\"/>";
+  const std::string field = "<geom type=\"hfield\" hfield=\"h\" pos=\".1 -.2 0\" euler=\"0 0 20\"/>";
+  struct Case {
+    const char* name;
+    std::string floor, body, geom;  // body: its attributes but pos
+    double tolerance;
+  };
+  const std::string mesh = "<mesh name=\"m\" vertex=\"0 0 0  .3 0 .05  0 .25 0  .05 0 .2  .25 .2 .15  .1 .3 .25  .3 .1 .3\"/>";
+  const Case cases[] = {
+      {"cylinder", plane, "euler=\"20 10 0\"", "<geom type=\"cylinder\" size=\".1 .3\" pos=\".02 0 .01\" euler=\"0 70 0\"/>", 1e-9},
+      {"ellipsoid", plane, "euler=\"30 -20 10\"", "<geom type=\"ellipsoid\" size=\".1 .3 .2\" pos=\"0 .03 0\" euler=\"10 0 40\"/>", 1e-9},
+      {"mesh", plane, "euler=\"15 25 5\"", "<geom type=\"mesh\" mesh=\"m\" pos=\".05 0 .02\" euler=\"0 30 10\"/>", 1e-9},
+      {"sphere on hfield", field, "", "<geom type=\"sphere\" size=\".15\"/>", 1e-5},
+      {"mesh on hfield", field, "euler=\"15 25 5\"", "<geom type=\"mesh\" mesh=\"m\" pos=\".05 0 .02\"/>", 1e-5},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const auto model = [&](const char* z) {
+      return "<mujoco><option gravity=\"0 0 0\"/><asset><hfield name=\"h\" file=\"" + grid_path +
+             "\" size=\"1.2 1 .3 .1\"/>" + mesh + "</asset><worldbody>" + c.floor + "<body name=\"b\" pos=\".23 .31 " + z +
+             "\" " + c.body + "><freejoint/>" + c.geom + "</body></worldbody></mujoco>";
+    };
+    const double touching = touching_height(temp_file("probe.xml", model("1")), -0.5, 1.5);
+    char z[64];
+    std::snprintf(z, sizeof z, "%.17g", touching - 0.01);
+    const std::string path = temp_file("touching.xml", model(z));
+    const Deepest theirs = mujoco_deepest(path), ours = our_deepest(load_mjcf(path));
+    std::printf("%s: MuJoCo's deepest %.9f m, ours %.9f m, normals %.2g apart\n", c.name, theirs.depth, ours.depth,
+                (theirs.normal - ours.normal).norm());
+    EXPECT_GT(theirs.depth, 0.001);
+    EXPECT_NEAR(ours.depth, theirs.depth, c.tolerance);
+    EXPECT_LE((ours.normal - theirs.normal).norm(), c.tolerance > 1e-9 ? 1e-3 : 1e-9);
+  }
+}
+
+// An hfield on a moving body (MuJoCo refuses it itself), and a mesh that could collide but has
+// no compiled hull (faces given, compiler convexhull="false"), are refused naming the geom.
+TEST(MjcfBadInput, MovingHfieldAndMeshWithoutAHull) {
+  const std::string grid_path = temp_file("grid.bin", std::string("\2\0\0\0\2\0\0\0", 8) + std::string(16, '\0'));
+  const std::string moving = temp_file(
+      "moving.xml", "<mujoco><asset><hfield name=\"h\" file=\"" + grid_path +
+                        "\" size=\"1 1 .1 .1\"/></asset><worldbody><body><freejoint/><geom name=\"ground\" type=\"hfield\" "
+                        "hfield=\"h\"/><geom type=\"sphere\" size=\".1\"/></body></worldbody></mujoco>");
+  const std::string error = load_error(moving);
+  EXPECT_NE(error.find("'ground'"), std::string::npos) << error;
+  EXPECT_NE(error.find("hfield only allowed in static bodies"), std::string::npos) << error;
+  const std::string no_hull = temp_file(
+      "no_hull.xml", "<mujoco><compiler convexhull=\"false\"/><asset><mesh name=\"m\" vertex=\"0 0 0  1 0 0  0 1 0  0 0 1\" "
+                     "face=\"0 2 1  0 1 3  0 3 2  1 2 3\"/>"
+                     "</asset><worldbody><body><freejoint/><geom name=\"rock\" type=\"mesh\" mesh=\"m\"/></body></worldbody></mujoco>");
+  const std::string hull_error = load_error(no_hull);
+  EXPECT_NE(hull_error.find("geom \"rock\""), std::string::npos) << hull_error;
+  EXPECT_NE(hull_error.find("no convex hull"), std::string::npos) << hull_error;
 }
 
 #endif

@@ -403,9 +403,15 @@ Mechanism every_type_with_shapes() {
   box.type = ShapeType::box;
   box.half_extents = Eigen::Vector3d(0.5, 0.1, 2.5);
   box.orientation = Eigen::Quaterniond(0.8, 0.1, 0.2, -0.3).normalized();
+  Shape cylinder = capsule;
+  cylinder.type = ShapeType::cylinder;
+  cylinder.half_length = 0.15;
+  Shape ellipsoid = box;
+  ellipsoid.type = ShapeType::ellipsoid;
+  ellipsoid.half_extents = Eigen::Vector3d(0.3, 0.1, 0.2);
   m.bodies[0].shapes = {plane, box};
-  m.bodies[1].shapes = {sphere};
-  m.bodies[4].shapes = {capsule, box, sphere};
+  m.bodies[1].shapes = {sphere, ellipsoid};
+  m.bodies[4].shapes = {capsule, box, sphere, cylinder};
   m.bodies.back().shapes = {box};
   m.constraints[1].collide = true;
   m.constraints[6].collide = true;
@@ -429,6 +435,27 @@ TEST(Scene, RoundTripOfShapesAndCollide) {
   // and a file's shapes read, written and read again
   const Mechanism read = parse_scene(with_shapes(), "scene.json");
   expect_same(parse_scene(scene_to_json(read), "scene.json"), read, 1e-15);
+}
+
+// A hull's vertices and a heightfield's grid have no scene-file form: the writer refuses them,
+// naming the body, rather than write a shape without its data.
+TEST(Scene, ConvexAndHeightfieldShapesAreNotWritten) {
+  for (const ShapeType type : {ShapeType::convex, ShapeType::heightfield}) {
+    Mechanism m = every_type();
+    Shape s;
+    s.type = type;
+    m.bodies[0].shapes = {s};
+    try {
+      scene_to_json(m);
+      ADD_FAILURE() << "wrote a " << to_string(type);
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(std::string("a ") + to_string(type) + " shape (from an MJCF model) has no scene-file form"),
+                std::string::npos)
+          << message;
+      EXPECT_NE(message.find(m.bodies[0].name), std::string::npos) << message;
+    }
+  }
 }
 
 TEST(Scene, SavedFileHasOneLinePerBodyAndConstraint) {
@@ -737,8 +764,15 @@ TEST(SceneBadInput, ShapeZeroOrientation) {
 }
 
 TEST(SceneBadInput, UnknownShapeType) {
-  expect_error(with_shape({{"type", "cylinder"}, {"radius", 1}}), kB1Shape,
-               {"unknown shape type \"cylinder\"", "plane, sphere, capsule, box"});
+  expect_error(with_shape({{"type", "torus"}, {"radius", 1}}), kB1Shape,
+               {"unknown shape type \"torus\"", "plane, sphere, capsule, box, cylinder, ellipsoid"});
+}
+
+// Convex hulls and heightfields come from MJCF models only: a scene file names them in vain,
+// and a mechanism with one is refused by the writer rather than written without its data.
+TEST(SceneBadInput, ConvexAndHeightfieldShapesHaveNoSceneFileForm) {
+  for (const char* type : {"convex", "heightfield"})
+    expect_error(with_shape({{"type", type}}), kB1Shape, {std::string("a ") + type + " shape has no scene-file form"});
 }
 
 TEST(SceneBadInput, ShapeKeyForeignToItsType) {
