@@ -74,7 +74,7 @@ fuzz_one() {
 
 fuzz() {
   # Only what the libraries need: the fuzz build has no program, tests, peers, MuJoCo or Python.
-  install_missing cmake make clang libclang-rt-14-dev libsuitesparse-dev libmetis-dev libeigen3-dev nlohmann-json3-dev pkg-config libode-dev
+  install_missing cmake make clang libclang-rt-14-dev libsuitesparse-dev libmetis-dev libeigen3-dev nlohmann-json3-dev pkg-config libode-dev libccd-dev
   local dir=${BUILD_DIR:-build-fuzz} seconds=${1:-60} failed=0
   CC=clang CXX=clang++ cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLDLPGS_BUILD_FUZZ=ON \
     -DLDLPGS_BUILD_CLI=OFF -DLDLPGS_BUILD_TESTS=OFF -DLDLPGS_BUILD_BENCH=OFF -DLDLPGS_BUILD_PEERS=OFF \
