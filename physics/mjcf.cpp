@@ -48,6 +48,10 @@ std::string describe(const MjcfDropped& dropped) {
   add(dropped.inactive_equalities, "inactive equalities");
   add(dropped.static_equalities, "equalities between static bodies");
   add(dropped.keyframes, "keyframes (we start at qpos0, at rest)");
+  if (dropped.fluid) {
+    s += s.empty() ? "dropped: " : ", ";
+    s += "fluid forces (option density, viscosity)";
+  }
   return s;
 }
 
@@ -156,6 +160,7 @@ class Converter {
     dropped_->actuators = disabled(mjDSBL_ACTUATION) ? 0 : m_->nu;
     dropped_->sensors = m_->nsensor;
     dropped_->keyframes = m_->nkey;
+    dropped_->fluid = m_->opt.density != 0 || m_->opt.viscosity != 0 ? 1 : 0;
     const bool passive = !disabled(mjDSBL_PASSIVE);
     const bool friction_loss = !disabled(mjDSBL_FRICTIONLOSS) && !disabled(mjDSBL_CONSTRAINT);
     for (int j = 0; j < m_->njnt; ++j) {

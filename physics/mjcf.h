@@ -44,7 +44,7 @@
 //               constraint (all three), filterparent (the body-pair filter above); actuation,
 //               passive and frictionloss switch off what they name (not counted as dropped).
 // Dropped, and counted in MjcfDropped: geoms of types without a shape (none of MuJoCo 2.2.2's),
-// explicit contact pairs and excludes, tendons, actuators,
+// explicit contact pairs and excludes, fluid forces (option density, viscosity), tendons, actuators,
 // sensors, joint springs, damping, armature and friction loss, the ranges of joints beside a free joint,
 // inactive equalities, keyframes (the mechanism starts at qpos0, at rest), MuJoCo's
 // soft-constraint parameters (solref, solimp: our rows are hard) and the geoms' other contact
@@ -71,6 +71,7 @@ struct MjcfDropped {
   int tendons = 0, actuators = 0, sensors = 0, keyframes = 0;
   int joint_dynamics = 0;    // joints with stiffness, damping, armature or friction loss
   int ranges = 0;            // joint ranges not converted (joints beside a free joint)
+  int fluid = 0;             // 1 if the options' density or viscosity is set (MuJoCo's fluid forces)
   int inactive_equalities = 0;
   int static_equalities = 0; // equalities between two static bodies (nothing to hold)
 };

@@ -573,6 +573,11 @@ TEST(Mjcf, DroppedIsCountedAndDescribed) {
   EXPECT_EQ(dropped.geoms, 0) << "planes, spheres and capsules: all shapes";
   EXPECT_EQ(dropped.actuators, 21);
   EXPECT_EQ(dropped.ranges, 0) << "the hips' three hinges: a joint set with its ranges";
+  EXPECT_EQ(dropped.fluid, 0);
+  MjcfDropped swimmer;
+  load_mjcf(kGymnasium + "/swimmer.xml", &swimmer);
+  EXPECT_EQ(swimmer.fluid, 1) << "its option viscosity";
+  EXPECT_NE(describe(swimmer).find("fluid forces (option density, viscosity)"), std::string::npos) << describe(swimmer);
   const std::string line = describe(dropped);
   EXPECT_EQ(line.find("geoms"), std::string::npos) << line;
   EXPECT_NE(line.find("21 actuators"), std::string::npos) << line;
