@@ -64,7 +64,7 @@ struct ModelRow {
 };
 
 // One model: loaded, stepped by us, then by MuJoCo.
-ModelRow check_model(const std::string& path, const ModelsArgs& a) {
+ModelRow check_model(const std::string& path, const ModelsArgs& a, HybridSchedule schedule) {
   ModelRow row;
   row.path = path;
   Mechanism m;
@@ -84,7 +84,7 @@ ModelRow check_model(const std::string& path, const ModelsArgs& a) {
   row.timestep_s = m.timestep;
   StepOptions options;
   options.diagnostics = true;
-  options.solver.schedule = schedule_option("--schedule", a.schedule);
+  options.solver.schedule = schedule;
   const double size = mechanism_size(m);
   Simulation sim(m, options);
   std::vector<double> step_us;
@@ -162,11 +162,11 @@ Command add_models_command(CLI::App& app) {
   add_json_flag(cmd, &a->json);
   return [a]() {
     if (!mjcf_supported()) throw InputError("ldlpgs models: built without MuJoCo, which reads MJCF models");
-    schedule_option("--schedule", a->schedule);  // refused before any model is stepped
+    const HybridSchedule schedule = schedule_option("--schedule", a->schedule);
     std::vector<ModelRow> rows;
     for (const std::string& path : model_files(a->paths)) {
       if (!a->json) progress("models", path);
-      rows.push_back(check_model(path, *a));
+      rows.push_back(check_model(path, *a, schedule));
     }
     if (a->json) {
       nlohmann::json models = nlohmann::json::array();

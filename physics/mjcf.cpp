@@ -359,7 +359,7 @@ class Converter {
   // The joints of body b, in MuJoCo's order.
   struct JointSet {
     int parent = -1, body = -1;
-    std::vector<Joint> hinges, slides, all;  // (sizes: the body's joints)
+    std::vector<Joint> all;  // (size: the body's joints)
   };
   JointSet joint_set(int b) const {
     JointSet set;
@@ -367,8 +367,6 @@ class Converter {
     set.body = b;
     for (int j = m_->body_jntadr[b]; j < m_->body_jntadr[b] + m_->body_jntnum[b]; ++j) {
       set.all.push_back(joint(j));
-      if (set.all.back().type == mjJNT_HINGE) set.hinges.push_back(set.all.back());
-      if (set.all.back().type == mjJNT_SLIDE) set.slides.push_back(set.all.back());
     }
     return set;
   }
@@ -397,14 +395,13 @@ class Converter {
   // One hinge or one slide: a hinge or prismatic joint with the limit of its coordinate.
   void axial_rows(const JointSet& set) {
     const int p = set.parent, b = set.body;
-    if (set.slides.empty()) {
-      const Joint& h = set.hinges[0];
-      add(out_->axial(ConstraintType::hinge, p, b, h.anchor, h.axis));
-      angular_limit(p, b, h);
+    const Joint& j = set.all[0];
+    if (j.type == mjJNT_HINGE) {
+      add(out_->axial(ConstraintType::hinge, p, b, j.anchor, j.axis));
+      angular_limit(p, b, j);
     } else {
-      const Joint& s = set.slides[0];
-      add(out_->axial(ConstraintType::prismatic, p, b, at(b).position, s.axis));
-      positional_limit(p, b, at(b).position, s);
+      add(out_->axial(ConstraintType::prismatic, p, b, at(b).position, j.axis));
+      positional_limit(p, b, at(b).position, j);
     }
   }
 
@@ -413,7 +410,7 @@ class Converter {
   // cone, the angle of its rotation).
   void chain_rows(const JointSet& set) {
     const int p = set.parent, b = set.body;
-    const int dofs = static_cast<int>(set.hinges.size() + set.slides.size() + 3 * (set.all.size() - set.hinges.size() - set.slides.size()));
+    const int dofs = m_->body_dofnum[b];
     if (dofs > kMaxChainDofs) {
       std::string why = std::to_string(dofs);
       why += " degrees of freedom in its joints, more than a body has (";
