@@ -36,6 +36,6 @@ struct ViewPage {
 ViewPage write_view_page(const std::string& scene, int steps, const std::string& html_file);
 
 // ldlpgs::load_mechanism (physics/scenes.h), printing what an MJCF conversion dropped on stderr.
-Mechanism load_mechanism(const std::string& spec);
+Mechanism load_mechanism(const std::string& spec, bool allow_dropped = false);
 
 }  // namespace ldlpgs::cli

@@ -1,7 +1,7 @@
 // ldlpgs models PATH...: a user's own MJCF models checked in one run. Every *.xml file named, or
 // found under a named folder, is loaded (physics/mjcf.h) and stepped --steps steps of its own
 // timestep by our ldl-pgs beside MuJoCo stepping the same file (peers/peer.h, mjcf_peer: its
-// own reduced coordinates, with what the conversion drops switched off there too); one row per
+// own reduced coordinates), both at zero controls; one row per
 // model: loaded or refused and why, what was dropped, step times (ours and MuJoCo's medians),
 // our largest joint error, deepest contact, and the first step that came apart.
 #include <algorithm>
@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "apps/commands.h"
+#include "apps/controls.h"
 #include "apps/options.h"
 #include "peers/median.h"
 #include "peers/peer.h"
@@ -29,7 +30,7 @@ struct ModelsArgs {
   std::vector<std::string> paths;
   int steps = 1000;
   std::string schedule = "talk";
-  bool json = false;
+  bool json = false, allow_dropped = false;
 };
 
 // The MJCF files of the paths, in order (a folder's sorted, found recursively). A path that is
@@ -70,7 +71,7 @@ ModelRow check_model(const std::string& path, const ModelsArgs& a, HybridSchedul
   Mechanism m;
   MjcfDropped dropped;
   try {
-    m = load_mjcf(path, &dropped);
+    m = load_mjcf(path, &dropped, a.allow_dropped);
   } catch (const InputError& e) {
     row.refused = e.what();
     return row;
@@ -160,6 +161,7 @@ Command add_models_command(CLI::App& app) {
   cmd->add_option("--schedule", a->schedule, "ldl-pgs with inequality rows, on steps without contacts: talk, "
                                               "inequality-pgs, block-gs or schur");
   add_json_flag(cmd, &a->json);
+  add_allow_dropped_flag(cmd, &a->allow_dropped);
   return [a]() {
     if (!mjcf_supported()) throw InputError("ldlpgs models: built without MuJoCo, which reads MJCF models");
     const HybridSchedule schedule = schedule_option("--schedule", a->schedule);

@@ -17,6 +17,7 @@
 #include "apps/options.h"
 #include "peers/peer.h"
 #include "ldlpgs/physics/mjcf.h"
+#include "apps/controls.h"
 #include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs::cli {
@@ -27,7 +28,7 @@ struct PeersArgs {
   std::string scene;
   double seconds = 1;
   std::vector<std::string> engines;  // empty: all
-  bool json = false;
+  bool json = false, allow_dropped = false;
 };
 
 // The scene's step count for --seconds: at least one step, and at most 10^6 (the references take
@@ -160,7 +161,7 @@ void print_table(const Mechanism& m, double seconds, const References& refs,
 }
 
 int run_peers(const PeersArgs& a) {
-  const Mechanism m = load_mechanism(a.scene);
+  const Mechanism m = load_mechanism(a.scene, a.allow_dropped);
   check_seconds(m, a.seconds);
   const std::string mjcf_path = is_mjcf_path(a.scene) ? a.scene : "";
   std::vector<peers::PeerEngine> table = peers::peer_engines();
@@ -182,6 +183,7 @@ Command add_peers_command(CLI::App& app) {
   cmd->add_option("--seconds", a->seconds, "Simulated time of each run")->capture_default_str();
   add_list_option(cmd, "--engines", &a->engines, "Engines to run (default: all)");
   add_json_flag(cmd, &a->json);
+  add_allow_dropped_flag(cmd, &a->allow_dropped);
   return [a] { return run_peers(*a); };
 }
 

@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "apps/commands.h"
+#include "apps/controls.h"
 #include "apps/options.h"
 #include "apps/shatter_args.h"
 #include "peers/median.h"
@@ -26,11 +27,13 @@
 
 namespace ldlpgs::cli {
 
-Mechanism load_mechanism(const std::string& spec) {
+Mechanism load_mechanism(const std::string& spec, bool allow_dropped) {
   MjcfDropped dropped;
-  Mechanism m = ldlpgs::load_mechanism(spec, &dropped);
-  // What an MJCF conversion left out, on stderr (empty for scene files and built-ins).
+  Mechanism m = ldlpgs::load_mechanism(spec, &dropped, allow_dropped);
+  // What an MJCF conversion left out, on stderr (empty for scene files and built-ins), and what
+  // of it changes the dynamics, one line each.
   if (const std::string line = describe(dropped); !line.empty()) std::fprintf(stderr, "%s: %s\n", spec.c_str(), line.c_str());
+  for (const std::string& line : dropped.unmodelled) std::fprintf(stderr, "%s: %s\n", spec.c_str(), line.c_str());
   return m;
 }
 
@@ -48,8 +51,9 @@ struct StepArgs {
   bool post_stabilize_refactor = false, post_stabilize_own_factor = false, curvature_target = false;
   bool implicit_gyroscopic = false;
   double timestep = 0, compliance = StepOptions{}.compliance, baumgarte = StepOptions{}.baumgarte;
-  bool json = false;
+  bool json = false, allow_dropped = false;
   ShatterArgs shatter;
+  ControlArgs controls;
 };
 
 StepOptions step_options(const StepArgs& a) {
@@ -132,7 +136,7 @@ struct SteppedScene {
 };
 SteppedScene stepped_scene(const StepArgs& a, const StepOptions& options) {
   SteppedScene scene;
-  scene.original = load_mechanism(a.scene);
+  scene.original = load_mechanism(a.scene, a.allow_dropped);
   if (a.timestep != 0) {
     if (!(a.timestep > 0) || !std::isfinite(a.timestep)) throw InputError("--timestep must be positive");
     scene.original.timestep = a.timestep;
@@ -247,6 +251,7 @@ void StepSummary::print_json(const char* command) const {
                       {"bodies", end.bodies.size()},
                       {"constraints", end.constraints.size()},
                       {"rows", end.num_rows()},
+                      {"actuators", end.actuators.size()},
                       {"shattered_bodies", scene.shattered.shattered_bodies},
                       {"loaded_bodies", loads.bodies},
                       {"applied_force_max_n", loads.force_max},
@@ -333,18 +338,20 @@ struct StepRun {
   const StepArgs& a;
   const StepOptions options;
   const SteppedScene scene;
+  const ControlSchedule controls;
   StepFiles files;
   Simulation sim;
   StepTotals totals;
 
   explicit StepRun(const StepArgs& args)
-      : a(args), options(step_options(a)), scene(stepped_scene(a, options)), files(a, scene),
-        sim(scene.shattered.mechanism, options) {}
+      : a(args), options(step_options(a)), scene(stepped_scene(a, options)), controls(a.controls, scene.original),
+        files(a, scene), sim(scene.shattered.mechanism, options) {}
   // The a.steps steps, each added to the totals and to the files, which are then finished.
   void step_all() {
     files.add(0, sim, StepReport{}, scene);
     const double size = mechanism_size(scene.original);
     for (int s = 1; s <= a.steps; ++s) {
+      if (!controls.empty()) sim.set_controls(controls.at(sim.time()));
       const StepReport r = sim.step();
       totals.add(s, r, size);
       files.add(s, sim, r, scene);
@@ -473,6 +480,8 @@ void add_step_options(CLI::App* cmd, StepArgs* a) {
                 "momentum through its rotation");
   add_json_flag(cmd, &a->json);
   add_shatter_options(cmd, &a->shatter);
+  add_control_options(cmd, &a->controls);
+  add_allow_dropped_flag(cmd, &a->allow_dropped);
 }
 
 // (--html-file is registered by each command: optional in step, required in view)

@@ -24,11 +24,9 @@
 // (mjINT_RK4) at timestep / 16: the second reference trajectory, for trees (peer.h).
 //
 // And, for a scene read from an MJCF file, that file itself (run_mujoco_mjcf): MuJoCo's own
-// model in its reduced coordinates, with what physics/mjcf.h drops turned off here too, so both
-// step the same mechanism: contacts where the conversion kept no shape (with shapes, MuJoCo
-// collides its own geoms, the floor included), passive forces (springs, damping), actuation and friction
-// loss disabled (opt.disableflags), damping, stiffness, armature and friction loss zeroed (the
-// Euler integrator's implicit damping reads dof_damping, not the flags). Its bodies are ours
+// model in its reduced coordinates, as the file has it (joint dynamics, actuators at zero
+// controls, fluid forces: what physics/mjcf.h converts), but contacts off where the conversion kept
+// no shape (with shapes, MuJoCo collides its own geoms, the floor included). Its bodies are ours
 // with the same index (physics/mjcf.h), our centres of mass its xipos.
 #include <mujoco/mujoco.h>
 
@@ -451,10 +449,7 @@ PeerResult run_mujoco_mjcf(const std::string& path, const Mechanism& scene, doub
     mj_deleteModel(model);
     return r;
   }
-  model->opt.disableflags |= mjDSBL_PASSIVE | mjDSBL_ACTUATION | mjDSBL_FRICTIONLOSS;
   if (!has_shapes(scene)) model->opt.disableflags |= mjDSBL_CONTACT;
-  for (int j = 0; j < model->njnt; ++j) model->jnt_stiffness[j] = 0;
-  for (int d = 0; d < model->nv; ++d) model->dof_damping[d] = model->dof_armature[d] = model->dof_frictionloss[d] = 0;
   Mechanism m = scene;
   if (rk4) {
     m.timestep /= 16;

@@ -227,6 +227,8 @@ double joint_separation(const Constraint& c, const RigidBody& a, const RigidBody
     case ConstraintType::angular_limit:
     case ConstraintType::positional_limit:
     case ConstraintType::coordinate_limit:
+    case ConstraintType::dof_drive:
+    case ConstraintType::dof_motor:
       return 0;
   }
   return 0;

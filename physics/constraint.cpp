@@ -21,10 +21,10 @@ using Eigen::Matrix3d;
 using Eigen::Vector3d;
 
 // Indexed by ConstraintType (scene files spell the types this way).
-constexpr std::array<const char*, 11> kNames = {
+constexpr std::array<const char*, 13> kNames = {
     "ball", "hinge", "prismatic", "cylindrical", "weld", "rod", "rope", "angular_limit", "positional_limit",
-    "joint_set", "coordinate_limit"};
-static_assert(kNames.size() == static_cast<size_t>(ConstraintType::coordinate_limit) + 1);
+    "joint_set", "coordinate_limit", "dof_drive", "dof_motor"};
+static_assert(kNames.size() == static_cast<size_t>(ConstraintType::dof_motor) + 1);
 
 // The pose quantities every row uses, at the current pose.
 struct Pose {
@@ -154,7 +154,9 @@ int num_rows(ConstraintType type) {
     case ConstraintType::rope:
     case ConstraintType::angular_limit:
     case ConstraintType::positional_limit:
-    case ConstraintType::coordinate_limit: return 1;
+    case ConstraintType::coordinate_limit:
+    case ConstraintType::dof_drive:
+    case ConstraintType::dof_motor: return 1;
     case ConstraintType::joint_set: assert(false && "joint_set: its chain gives its rows"); return 0;
   }
   assert(false && "unknown constraint type");
@@ -174,8 +176,10 @@ bool is_equality(ConstraintType type) {
     case ConstraintType::cylindrical:
     case ConstraintType::weld:
     case ConstraintType::rod:
-    case ConstraintType::joint_set: return true;
+    case ConstraintType::joint_set:
+    case ConstraintType::dof_drive: return true;
     case ConstraintType::rope:
+    case ConstraintType::dof_motor:
     case ConstraintType::angular_limit:
     case ConstraintType::positional_limit:
     case ConstraintType::coordinate_limit: return false;
@@ -311,6 +315,17 @@ ConstraintRows evaluate(const Constraint& constraint, const RigidBody& a, const 
       }
       break;
     }
+    case ConstraintType::dof_drive:
+    case ConstraintType::dof_motor: {
+      // J = the dof's rate covector (a row of S^+, joint_set.h); no position error: the step
+      // sets the row's target rate, softness and bounds (physics/actuation.h)
+      const ChainFit fit = fit_chain(*c.chain, a, b, &c.coordinates);
+      Twist z;
+      chain_dof(*c.chain, fit, c.coordinates, c.joint, &z);
+      out.angular[0] = dof_is_angular(*c.chain, c.joint);
+      chain_jacobian_row(*c.chain, z, a, b, out.jacobian.data());
+      break;
+    }
   }
   return out;
 }
@@ -361,6 +376,15 @@ Constraint make_joint_set(int ia, const RigidBody& a, int ib, const RigidBody& b
                           const std::vector<ChainJoint>& world_joints) {
   Constraint c = make_common(ConstraintType::joint_set, ia, a, ib, b, b.position, b.position);
   c.chain = make_joint_chain(a, b, world_joints);
+  return c;
+}
+
+Constraint make_dof_row(ConstraintType type, const Constraint& joint_set, int dof) {
+  assert((type == ConstraintType::dof_drive || type == ConstraintType::dof_motor) && joint_set.chain && dof >= 0 &&
+         dof < joint_set.chain->dofs);
+  Constraint c = joint_set;
+  c.type = type;
+  c.joint = dof;
   return c;
 }
 

@@ -20,9 +20,12 @@
 //   positional_limit     1  slide along the axis out of range        inequality
 //   joint_set          0-6  what a set of joints does not allow      equality
 //   coordinate_limit     1  one joint of a set out of its range      inequality
-// joint_set and coordinate_limit carry a JointChain (joint_set.h): any hinges, slides and balls
+//   dof_drive            1  a dof's rate, softly (armature, damping) equality, soft
+//   dof_motor            1  a dof's rate, bounded (friction loss)     inequality, bounded
+// joint_set, coordinate_limit, dof_drive and dof_motor carry a JointChain (joint_set.h): any hinges, slides and balls
 // on one body composed as MuJoCo composes them; the set's rows number 6 minus the motions its
-// joints span.
+// joints span. dof_drive and dof_motor have no position error: the step gives them a target rate,
+// a softness and bounds every step (physics/actuation.h: MuJoCo's joint dynamics and actuators).
 #include <array>
 #include <memory>
 #include <span>
@@ -37,7 +40,8 @@
 namespace ldlpgs {
 
 enum class ConstraintType {
-  ball, hinge, prismatic, cylindrical, weld, rod, rope, angular_limit, positional_limit, joint_set, coordinate_limit
+  ball, hinge, prismatic, cylindrical, weld, rod, rope, angular_limit, positional_limit, joint_set, coordinate_limit,
+  dof_drive, dof_motor
 };
 
 constexpr int kMaxConstraintRows = 6;
@@ -63,7 +67,8 @@ struct Constraint {
   // by a constraint do not collide.
   bool collide = false;
   // joint_set, coordinate_limit: the joints (shared, immutable), and which joint's coordinate a
-  // limit bounds (min, max in its unit from q = 0; a ball's angle: max only).
+  // limit bounds (min, max in its unit from q = 0; a ball's angle: max only). dof_drive and
+  // dof_motor: `joint` is the chain's dof whose rate they act on (a ball has 3).
   std::shared_ptr<const JointChain> chain;
   int joint = -1;
   // The chain's coordinates at the last evaluation, where the next fit starts (joint_set.h).
@@ -103,6 +108,8 @@ Constraint make_positional_limit(int ia, const RigidBody& a, int ib, const Rigid
 Constraint make_joint_set(int ia, const RigidBody& a, int ib, const RigidBody& b,
                           const std::vector<ChainJoint>& world_joints);
 Constraint make_coordinate_limit(const Constraint& joint_set, int joint, double min, double max);
+// A dof_drive or dof_motor on dof `dof` of a chain (any constraint carrying it).
+Constraint make_dof_row(ConstraintType type, const Constraint& joint_set, int dof);
 
 // The hinge angle of b relative to a about the axis (angular_limit; 0 at the initial pose), and
 // the slide of b's anchor along a's axis (positional_limit; 0 at the initial pose), and the

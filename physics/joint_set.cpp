@@ -336,21 +336,31 @@ ChainCovectors chain_row_covectors(const JointChain& chain, const ChainFit& fit)
   return rows;
 }
 
+namespace {
+
+// The covector of dof i's rate, q_dot_i = z . V_rel: row i of S^+ = V Sigma^+ U^T.
+Twist dof_rate(const TwistSvd& svd, int i) {
+  Twist z = Twist::Zero();
+  for (int k = 0; k < static_cast<int>(svd.rank()); ++k)
+    z += (svd.matrixV()(i, k) / svd.singularValues()[k]) * svd.matrixU().col(k);
+  return z;
+}
+
+int first_dof(const JointChain& chain, int joint) {
+  int dof = 0;
+  for (int k = 0; k < joint; ++k) dof += joint_dofs(chain.joints[k]);
+  return dof;
+}
+
+}  // namespace
+
 double chain_coordinate(const JointChain& chain, const ChainFit& fit, const ChainCoordinates& q, int joint,
                         Twist* covector) {
   assert(joint >= 0 && joint < static_cast<int>(chain.joints.size()));
-  int dof = 0;
-  for (int k = 0; k < joint; ++k) dof += joint_dofs(chain.joints[k]);
-  // q_dot = S^+ V_rel, S^+ = V Sigma^+ U^T: the covector of rate i is U Sigma^+ V^T e_i
+  const int dof = first_dof(chain, joint);
   const TwistSvd svd = twist_svd(fit.twists);
-  const int rank = static_cast<int>(svd.rank());
-  auto rate = [&](int i) -> Twist {
-    Twist z = Twist::Zero();
-    for (int k = 0; k < rank; ++k) z += (svd.matrixV()(i, k) / svd.singularValues()[k]) * svd.matrixU().col(k);
-    return z;
-  };
   if (chain.joints[joint].type != ChainJointType::ball) {
-    *covector = rate(dof);
+    *covector = dof_rate(svd, dof);
     return q[dof];
   }
   // the angle |theta|: its rate is theta/|theta| . (the ball's rates), the rotation vector's
@@ -358,8 +368,23 @@ double chain_coordinate(const JointChain& chain, const ChainFit& fit, const Chai
   const Vector3d theta(q[dof], q[dof + 1], q[dof + 2]);
   const double angle = theta.norm();
   const Vector3d direction = angle > 0 ? (theta / angle).eval() : Vector3d::UnitX();
-  *covector = direction[0] * rate(dof) + direction[1] * rate(dof + 1) + direction[2] * rate(dof + 2);
+  *covector = direction[0] * dof_rate(svd, dof) + direction[1] * dof_rate(svd, dof + 1) + direction[2] * dof_rate(svd, dof + 2);
   return angle;
+}
+
+bool dof_is_angular(const JointChain& chain, int dof) {
+  for (const ChainJoint& j : chain.joints) {
+    if (dof < joint_dofs(j)) return j.type != ChainJointType::slide;
+    dof -= joint_dofs(j);
+  }
+  assert(false && "dof_is_angular: no such dof");
+  return false;
+}
+
+double chain_dof([[maybe_unused]] const JointChain& chain, const ChainFit& fit, const ChainCoordinates& q, int dof, Twist* covector) {
+  assert(dof >= 0 && dof < chain.dofs);
+  *covector = dof_rate(twist_svd(fit.twists), dof);
+  return q[dof];
 }
 
 void chain_jacobian_row(const JointChain& chain, const Twist& covector, const RigidBody& a, const RigidBody& b,

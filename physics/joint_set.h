@@ -99,6 +99,12 @@ ChainCovectors chain_row_covectors(const JointChain& chain, const ChainFit& fit)
 double chain_coordinate(const JointChain& chain, const ChainFit& fit, const ChainCoordinates& q, int joint,
                         Twist* covector);
 
+// Dof i's coordinate q_i and the covector of its rate, MuJoCo's qvel entry (a ball's three dofs:
+// its rotation vector and the child-frame angular velocity, as the ball composes on the right).
+double chain_dof(const JointChain& chain, const ChainFit& fit, const ChainCoordinates& q, int dof, Twist* covector);
+// Dof i turns (a hinge's or a ball's: radians) rather than slides (metres).
+bool dof_is_angular(const JointChain& chain, int dof);
+
 // A covector y (child's frame) of the relative twist as a row of 12 over [v_a w_a v_b w_b]
 // (world): y . V_rel with V_rel = (R_b^T (w_b - w_a); R_b^T (v_b + w_b x (o - p_b) - v_a -
 // w_a x (o - p_a))), o the chain's child origin in the world.

@@ -10,8 +10,10 @@
 
 #include <Eigen/Core>
 
+#include "ldlpgs/physics/actuation.h"
 #include "ldlpgs/physics/body.h"
 #include "ldlpgs/physics/constraint.h"
+#include "ldlpgs/physics/fluid.h"
 #include "ldlpgs/sparse/block_pattern.h"
 
 namespace ldlpgs {
@@ -22,6 +24,13 @@ struct Mechanism {
   double timestep = 0.01;                // s
   std::vector<RigidBody> bodies;
   std::vector<Constraint> constraints;
+  // MuJoCo's joint dynamics and actuators (physics/actuation.h; MJCF models): explicit loads and
+  // the targets of the dof_drive and dof_motor constraints. `actuation` false: the actuators
+  // apply nothing (MuJoCo's actuation flag; their controls are still taken).
+  std::vector<DofDynamics> dofs;
+  std::vector<Actuator> actuators;
+  bool actuation = true;
+  FluidMedium fluid;  // the medium's forces on every body (physics/fluid.h); none by default
 
   int find_body(std::string_view body_name) const;  // -1 if none has that name
   int add_body(RigidBody body);                      // returns its index

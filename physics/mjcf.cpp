@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -43,15 +44,12 @@ std::string describe(const MjcfDropped& dropped) {
   add(dropped.tendons, "tendons");
   add(dropped.actuators, "actuators");
   add(dropped.sensors, "sensors");
-  add(dropped.joint_dynamics, "joints' stiffness/damping/armature/friction loss");
+  add(dropped.joint_dynamics, "free joints' stiffness/damping/armature/friction loss");
   add(dropped.ranges, "joint ranges (joints beside a free joint)");
   add(dropped.inactive_equalities, "inactive equalities");
   add(dropped.static_equalities, "equalities between static bodies");
   add(dropped.keyframes, "keyframes (we start at qpos0, at rest)");
-  if (dropped.fluid) {
-    s += s.empty() ? "dropped: " : ", ";
-    s += "fluid forces (option density, viscosity)";
-  }
+  add(dropped.fluid, "geoms' ellipsoid fluid model (fluidshape)");
   return s;
 }
 
@@ -59,7 +57,7 @@ std::string describe(const MjcfDropped& dropped) {
 
 bool mjcf_supported() { return false; }
 
-Mechanism load_mjcf(const std::string& path, MjcfDropped*) {
+Mechanism load_mjcf(const std::string& path, MjcfDropped*, bool) {
   throw InputError(path + ": MJCF models need MuJoCo (Debian's libmujoco-dev); rebuild with it installed");
 }
 
@@ -134,7 +132,11 @@ class Converter {
     for (int g = 0; g < m_->ngeom; ++g) geom(g);
     if (!contacts()) switch_off_contacts();
     for (int b = 1; b < m_->nbody; ++b) joint_rows(b);
+    for (int j = 0; j < m_->njnt; ++j) joint_dynamics(j);
+    for (int a = 0; a < m_->nu; ++a) actuator(a);
+    for (int j = 0; j < m_->njnt; ++j) dynamics_rows(j);
     for (int e = 0; e < m_->neq; ++e) equality(e);
+    out_->actuation = !disabled(mjDSBL_ACTUATION);
     for (Constraint& c : out_->constraints) c.collide = mujoco_may_collide(c.body_a, c.body_b);
     count_dropped();
   }
@@ -153,25 +155,55 @@ class Converter {
       for (Shape& shape : body.shapes) shape.contype = shape.conaffinity = 0;
   }
 
-  // What changes the dynamics and is not converted; what a flag switches off is not dropped.
+  // What is not converted; what a flag switches off is not dropped. Each kind that changes the
+  // dynamics is also described by its first element (MjcfDropped::unmodelled).
   void count_dropped() {
     dropped_->contact_pairs = contacts() ? m_->npair + m_->nexclude : 0;
-    dropped_->tendons = m_->ntendon;
-    dropped_->actuators = disabled(mjDSBL_ACTUATION) ? 0 : m_->nu;
+    if (dropped_->contact_pairs > 0)
+      unmodelled(m_->npair > 0 ? "contact pair 0" : "contact exclude 0", "explicit contact pairs and excludes are not modelled");
+    for (int t = 0; t < m_->ntendon; ++t) tendon(t);
     dropped_->sensors = m_->nsensor;
     dropped_->keyframes = m_->nkey;
-    dropped_->fluid = m_->opt.density != 0 || m_->opt.viscosity != 0 ? 1 : 0;
-    const bool passive = !disabled(mjDSBL_PASSIVE);
-    const bool friction_loss = !disabled(mjDSBL_FRICTIONLOSS) && !disabled(mjDSBL_CONSTRAINT);
-    for (int j = 0; j < m_->njnt; ++j) {
-      const int dofs = m_->jnt_type[j] == mjJNT_FREE ? 6 : m_->jnt_type[j] == mjJNT_BALL ? 3 : 1;
-      bool dynamics = passive && m_->jnt_stiffness[j] != 0;
-      for (int k = m_->jnt_dofadr[j]; k < m_->jnt_dofadr[j] + dofs; ++k)
-        dynamics = dynamics || (passive && m_->dof_damping[k] != 0) || m_->dof_armature[k] != 0 ||
-                   (friction_loss && m_->dof_frictionloss[k] != 0);
-      dropped_->joint_dynamics += dynamics ? 1 : 0;
+    fluid();
+  }
+
+  // MuJoCo's fluid forces: the inertia-box model (fluid.h) on every body, unless passive forces
+  // are off; a geom with fluidshape="ellipsoid" puts its body on MuJoCo's other model, not modelled.
+  void fluid() {
+    if (disabled(mjDSBL_PASSIVE) || !(m_->opt.density > 0 || m_->opt.viscosity > 0)) return;
+    out_->fluid.density = m_->opt.density;
+    out_->fluid.viscosity = m_->opt.viscosity;
+    out_->fluid.wind = vec3(m_->opt.wind);
+    for (int g = 0; g < m_->ngeom; ++g) {
+      if (m_->geom_fluid[mjNFLUID * g] == 0) continue;
+      ++dropped_->fluid;
+      unmodelled(quoted("geom", name(m_->name_geomadr[g], "geom", g)), "fluidshape=\"ellipsoid\" is not modelled (the inertia box is)");
     }
   }
+
+  // A tendon changes the dynamics only through its range, spring, damper, friction loss or an
+  // actuator (refused with the actuator); a bare one (humanoid's hip-knee couplings) is inert.
+  void tendon(int t) {
+    const bool passive = !disabled(mjDSBL_PASSIVE);
+    const bool active = (m_->tendon_limited[t] && limits()) || (passive && m_->tendon_stiffness[t] != 0) ||
+                        (passive && m_->tendon_damping[t] != 0) || (friction_loss() && m_->tendon_frictionloss[t] != 0);
+    if (!active) return;
+    ++dropped_->tendons;
+    unmodelled(quoted("tendon", name(m_->name_tendonadr[t], "tendon", t)),
+               "its range, stiffness, damping or friction loss is not modelled (tendons are not converted)");
+  }
+
+  void unmodelled(const std::string& element, const std::string& feature) {
+    dropped_->unmodelled.push_back(element + ": " + feature);
+  }
+  static std::string quoted(const char* kind, const std::string& name) {
+    std::string s = kind;
+    s += " \"";
+    s += name;
+    s += "\"";
+    return s;
+  }
+  bool friction_loss() const { return !disabled(mjDSBL_FRICTIONLOSS) && !disabled(mjDSBL_CONSTRAINT); }
 
   std::string name(int adr, const char* kind, int id) const {
     std::string s = printable(m_->names + adr, 80);
@@ -384,7 +416,11 @@ class Converter {
       add(out_->axial(ConstraintType::weld, p, b, at(b).position, Vector3d::UnitX()));
     } else if (free) {
       // six degrees of freedom: no rows; the other joints' coordinates are redundant with it
-      for (const Joint& j : set.all) dropped_->ranges += j.type != mjJNT_FREE && j.limited ? 1 : 0;
+      for (const Joint& j : set.all) {
+        if (j.type == mjJNT_FREE || !j.limited) continue;
+        ++dropped_->ranges;
+        unmodelled(quoted("joint", joint_name(j.id)), "a range beside a free joint is not modelled");
+      }
     } else if (set.all.size() == 1 && set.all[0].type != mjJNT_BALL) {
       axial_rows(set);
     } else {
@@ -396,6 +432,11 @@ class Converter {
   void axial_rows(const JointSet& set) {
     const int p = set.parent, b = set.body;
     const Joint& j = set.all[0];
+    ChainJoint c;
+    c.type = j.type == mjJNT_HINGE ? ChainJointType::hinge : ChainJointType::slide;
+    c.anchor = j.anchor;
+    c.axis = j.axis;
+    chains_[b] = out_->joint_set(p, b, {c});  // measures the coordinate of its dynamics
     if (j.type == mjJNT_HINGE) {
       add(out_->axial(ConstraintType::hinge, p, b, j.anchor, j.axis));
       angular_limit(p, b, j);
@@ -429,6 +470,7 @@ class Converter {
       joints.push_back(c);
     }
     const Constraint chain = out_->joint_set(p, b, joints);
+    chains_[b] = chain;
     if (set.all.size() == 1) {
       add(out_->ball(p, b, set.all[0].anchor));
     } else if (num_rows(chain) > 0) {
@@ -436,6 +478,107 @@ class Converter {
     }
     for (size_t k = 0; k < set.all.size(); ++k)
       if (set.all[k].limited) add(make_coordinate_limit(chain, static_cast<int>(k), set.all[k].lo, set.all[k].hi));
+  }
+
+  std::string joint_name(int j) const { return name(m_->name_jntadr[j], "joint", j); }
+
+  // Joint j's dofs' passive dynamics (actuation.h), on the chain of its body: armature always,
+  // stiffness and damping unless passive forces are off, friction loss unless it is. A free
+  // joint's, or one beside it, is not modelled.
+  void joint_dynamics(int j) {
+    const int b = m_->jnt_bodyid[j], type = m_->jnt_type[j];
+    const int dofs = type == mjJNT_FREE ? 6 : type == mjJNT_BALL ? 3 : 1;
+    const bool passive = !disabled(mjDSBL_PASSIVE);
+    for (int k = 0; k < dofs; ++k) {
+      const int dof = m_->jnt_dofadr[j] + k;
+      DofDynamics d;
+      d.armature = m_->dof_armature[dof];
+      d.damping = passive ? m_->dof_damping[dof] : 0;
+      d.stiffness = passive ? m_->jnt_stiffness[j] : 0;
+      d.frictionloss = friction_loss() ? m_->dof_frictionloss[dof] : 0;
+      if (type == mjJNT_HINGE || type == mjJNT_SLIDE) {
+        d.offset = m_->qpos0[m_->jnt_qposadr[j]];
+        d.springref = m_->qpos_spring[m_->jnt_qposadr[j]];
+      }
+      const bool moves = d.armature != 0 || d.damping != 0 || d.stiffness != 0 || d.frictionloss != 0;
+      if (!moves || at(b).is_static) continue;
+      if (!chains_[b]) {
+        ++dropped_->joint_dynamics;
+        unmodelled(quoted("joint", joint_name(j)), "its armature, damping, stiffness or friction loss on a free joint "
+                   "(or beside one) is not modelled");
+        return;
+      }
+      add_dof(j, k, d);
+    }
+  }
+
+  // Dof k of joint j in Mechanism::dofs (once), measured on its body's chain.
+  int add_dof(int j, int k, const DofDynamics& d) {
+    const int key = m_->jnt_dofadr[j] + k;
+    if (dof_index_[key] >= 0) return dof_index_[key];
+    const int b = m_->jnt_bodyid[j];
+    DofDynamics dof = d;
+    dof.coordinate = make_dof_row(ConstraintType::dof_drive, *chains_[b], key - m_->body_dofadr[b]);
+    out_->dofs.push_back(dof);
+    return dof_index_[key] = static_cast<int>(out_->dofs.size()) - 1;
+  }
+
+  // Actuator a (actuation.h): on a hinge or slide, no activation dynamics, fixed gain, affine
+  // bias. Others are not modelled.
+  void actuator(int a) {
+    const std::string label = quoted("actuator", name(m_->name_actuatoradr[a], "actuator", a));
+    const int trn = m_->actuator_trntype[a], j = m_->actuator_trnid[2 * a];
+    const char* problem = nullptr;
+    if (trn != mjTRN_JOINT && trn != mjTRN_JOINTINPARENT) problem = "a transmission other than a joint's";
+    else if (m_->jnt_type[j] != mjJNT_HINGE && m_->jnt_type[j] != mjJNT_SLIDE) problem = "a ball or free joint's transmission";
+    else if (!at(m_->jnt_bodyid[j]).is_static && !chains_[m_->jnt_bodyid[j]]) problem = "a joint beside a free joint";
+    else if (m_->actuator_dyntype[a] != mjDYN_NONE) problem = "activation dynamics (dyntype)";
+    else if (m_->actuator_gaintype[a] != mjGAIN_FIXED) problem = "a gain other than fixed";
+    else if (m_->actuator_biastype[a] != mjBIAS_NONE && m_->actuator_biastype[a] != mjBIAS_AFFINE) problem = "a bias other than affine";
+    Actuator act;
+    act.name = name(m_->name_actuatoradr[a], "actuator", a);
+    act.ctrl_limited = m_->actuator_ctrllimited[a];
+    act.ctrl_min = m_->actuator_ctrlrange[2 * a];
+    act.ctrl_max = m_->actuator_ctrlrange[2 * a + 1];
+    if (problem || at(m_->jnt_bodyid[j]).is_static) {
+      // kept with no effect, so that the controls keep MuJoCo's order
+      act.gain = 0;
+      out_->actuators.push_back(act);
+      if (problem && !disabled(mjDSBL_ACTUATION)) {
+        ++dropped_->actuators;
+        unmodelled(label, std::string(problem) + " is not modelled");
+      }
+      return;
+    }
+    act.gear = m_->actuator_gear[6 * a];
+    act.gain = m_->actuator_gainprm[mjNGAIN * a];
+    if (m_->actuator_biastype[a] == mjBIAS_AFFINE)
+      for (int k = 0; k < 3; ++k) act.bias[k] = m_->actuator_biasprm[mjNBIAS * a + k];
+    act.force_limited = m_->actuator_forcelimited[a];
+    act.force_min = m_->actuator_forcerange[2 * a];
+    act.force_max = m_->actuator_forcerange[2 * a + 1];
+    act.dof = add_dof(j, 0, DofDynamics{});
+    out_->actuators.push_back(act);
+  }
+
+  // The rows the dofs' dynamics need, after the actuators are known: a dof_drive where armature,
+  // damping or a velocity servo of unlimited force softens the dof, a dof_motor for its friction
+  // loss and for each force-limited velocity servo.
+  void dynamics_rows(int j) {
+    const int dofs = m_->jnt_type[j] == mjJNT_FREE ? 6 : m_->jnt_type[j] == mjJNT_BALL ? 3 : 1;
+    for (int k = 0; k < dofs; ++k) {
+      const int d = dof_index_[m_->jnt_dofadr[j] + k];
+      if (d < 0) continue;
+      DofDynamics& dof = out_->dofs[d];
+      bool soft = dof.armature > 0 || dof.damping > 0;
+      for (Actuator& a : out_->actuators) {
+        if (a.dof != d || !(a.bias[2] < 0) || a.gear == 0) continue;
+        if (a.force_limited) a.motor = add(make_dof_row(ConstraintType::dof_motor, dof.coordinate, dof.coordinate.joint));
+        else soft = true;
+      }
+      if (soft) dof.drive = add(dof.coordinate);
+      if (dof.frictionloss > 0) dof.friction = add(make_dof_row(ConstraintType::dof_motor, dof.coordinate, dof.coordinate.joint));
+    }
   }
 
   void equality(int e) {
@@ -484,6 +627,8 @@ class Converter {
   const mjData* d_;
   Mechanism* out_;
   MjcfDropped* dropped_;
+  std::vector<std::optional<Constraint>> chains_ = std::vector<std::optional<Constraint>>(m_->nbody);  // each body's joints
+  std::vector<int> dof_index_ = std::vector<int>(m_->nv, -1);  // MuJoCo's dof -> Mechanism::dofs
 };
 
 
@@ -517,7 +662,7 @@ void check_compiled(const std::string& path, const mjModel* m, const mjData* d) 
 
 }  // namespace
 
-Mechanism load_mjcf(const std::string& path, MjcfDropped* dropped) {
+Mechanism load_mjcf(const std::string& path, MjcfDropped* dropped, bool allow_dropped) {
   check_mjcf_numbers(path);
   char error[1024] = "";
   std::unique_ptr<mjModel, ModelDeleter> model(mj_loadXML(path.c_str(), nullptr, error, sizeof error));
@@ -537,7 +682,10 @@ Mechanism load_mjcf(const std::string& path, MjcfDropped* dropped) {
   Mechanism m;
   m.name = std::filesystem::path(path).stem().string();
   MjcfDropped ignored;
-  Converter(path, model.get(), data.get(), &m, dropped ? dropped : &ignored).run();
+  MjcfDropped& out = dropped ? *dropped : ignored;
+  Converter(path, model.get(), data.get(), &m, &out).run();
+  if (!allow_dropped && !out.unmodelled.empty())
+    throw InputError(printable(path) + ": " + out.unmodelled.front() + " (allow_dropped, --allow-dropped, steps without it)");
   check_ranges(m, path);
   return m;
 }

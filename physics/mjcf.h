@@ -39,16 +39,26 @@
 //               unless one is the world or filterparent is disabled. (Pairs of such bodies not
 //               joined by a constraint, e.g. a welded child and its grandparent, are not
 //               filtered here.)
+//   dynamics    each dof's armature, damping, stiffness (springref) and friction loss, and the
+//               actuators (motor, position, velocity, and <general> ones with no activation
+//               dynamics, fixed gain and affine bias) on hinges and slides: Mechanism::dofs and
+//               ::actuators (physics/actuation.h), measured on the body's joint chain; the dof_drive
+//               and dof_motor rows they need. An actuator we do not model is kept with no effect,
+//               so that the controls keep MuJoCo's order.
+//   fluid       option density, viscosity and wind: MuJoCo's inertia-box model (physics/fluid.h).
 //   options     gravity = opt.gravity, timestep = opt.timestep; MuJoCo's <flag>s are honoured:
 //               gravity (0), contact (shapes kept, touching nothing), limit, equality,
-//               constraint (all three), filterparent (the body-pair filter above); actuation,
-//               passive and frictionloss switch off what they name (not counted as dropped).
-// Dropped, and counted in MjcfDropped: geoms of types without a shape (none of MuJoCo 2.2.2's),
-// explicit contact pairs and excludes, fluid forces (option density, viscosity), tendons, actuators,
-// sensors, joint springs, damping, armature and friction loss, the ranges of joints beside a free joint,
-// inactive equalities, keyframes (the mechanism starts at qpos0, at rest), MuJoCo's
-// soft-constraint parameters (solref, solimp: our rows are hard) and the geoms' other contact
-// parameters (condim, torsional and rolling friction, margin, gap, priority, solmix).
+//               constraint (all three), filterparent (the body-pair filter above); actuation
+//               (Mechanism::actuation), passive (springs, damping, fluid) and frictionloss switch
+//               off what they name.
+// Dropped, and counted in MjcfDropped: explicit contact pairs and excludes, tendons with a range,
+// spring, damper or friction loss (a bare fixed tendon does nothing and is not counted), actuators
+// of other kinds, the dynamics of free joints (and of joints beside one), the ranges of joints
+// beside a free joint, geoms' ellipsoid fluid model, sensors, inactive equalities, keyframes (the
+// mechanism starts at qpos0, at rest), MuJoCo's soft-constraint parameters (solref, solimp: our
+// rows are hard) and the geoms' other contact parameters (condim, torsional and rolling friction,
+// margin, gap, priority, solmix). Of these, what changes the dynamics and has no conversion is
+// refused by default, naming the first element (MjcfDropped::unmodelled).
 //
 // Errors: a file MuJoCo cannot parse, and every construct above that we refuse, are an
 // InputError naming the file and the construct ("humanoid.xml: body \"x\": joints a (slide),
@@ -59,6 +69,7 @@
 // the model (masses, inertias, poses, anchors, axes, ranges) finite; then the mechanism must lie
 // in MechanismRanges (mechanism.h). Names and MuJoCo's own messages are quoted with printable().
 #include <string>
+#include <vector>
 
 #include "ldlpgs/physics/mechanism.h"
 
@@ -69,11 +80,14 @@ struct MjcfDropped {
   int geoms = 0;             // of types without a shape (none of MuJoCo 2.2.2's: every type converts)
   int contact_pairs = 0;     // explicit <contact> pairs and excludes
   int tendons = 0, actuators = 0, sensors = 0, keyframes = 0;
-  int joint_dynamics = 0;    // joints with stiffness, damping, armature or friction loss
+  int joint_dynamics = 0;    // free joints (or joints beside one) with stiffness, damping, armature or friction loss
   int ranges = 0;            // joint ranges not converted (joints beside a free joint)
-  int fluid = 0;             // 1 if the options' density or viscosity is set (MuJoCo's fluid forces)
+  int fluid = 0;             // geoms with fluidshape="ellipsoid" (MuJoCo's other fluid model)
   int inactive_equalities = 0;
   int static_equalities = 0; // equalities between two static bodies (nothing to hold)
+  // What of the above changes the dynamics (all but sensors, keyframes, inactive and static
+  // equalities), one line per element: "tendon \"t\": its range ... is not modelled ...".
+  std::vector<std::string> unmodelled;
 };
 // One line: "dropped: 3 geoms of types without a shape (...), 21 actuators, ..." (empty if
 // nothing was dropped).
@@ -85,7 +99,9 @@ bool mjcf_supported();
 bool is_mjcf_path(const std::string& path);
 
 // The model at qpos0, at rest. The mechanism's name is the file's stem. `dropped` (optional)
-// receives what was left out.
-Mechanism load_mjcf(const std::string& path, MjcfDropped* dropped = nullptr);
+// receives what was left out. Unless `allow_dropped`, a model with something unmodelled that
+// changes its dynamics is refused: an InputError naming the first ("m.xml: tendon \"t\": its
+// range ... is not modelled (allow_dropped, --allow-dropped, steps without it)").
+Mechanism load_mjcf(const std::string& path, MjcfDropped* dropped = nullptr, bool allow_dropped = false);
 
 }  // namespace ldlpgs

@@ -336,7 +336,7 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> parse_anchors(const Entry& e) {
   return {p, q};
 }
 
-void check_range(const Entry& e, double min, double max) {
+void check_limit_range(const Entry& e, double min, double max) {
   if (min > max) e.fail(cat("min (", format_number(min), ") exceeds max (", format_number(max), ")"));
 }
 
@@ -362,7 +362,9 @@ Constraint parse_constraint(const Entry& e, const Mechanism& m,
       e.allow_only({"type", "bodies", "anchor", "axis", "min", "max", "collide"}, whose);
       break;
     case ConstraintType::joint_set:
-    case ConstraintType::coordinate_limit: e.fail(cat(whose, " comes from MJCF models only (a scene file has no joint sets)"));
+    case ConstraintType::coordinate_limit:
+    case ConstraintType::dof_drive:
+    case ConstraintType::dof_motor: e.fail(cat(whose, " comes from MJCF models only (a scene file has no joint sets)"));
   }
 
   const json& names = e.required("bodies");
@@ -405,18 +407,20 @@ Constraint parse_constraint(const Entry& e, const Mechanism& m,
     case ConstraintType::angular_limit: {
       const Eigen::Vector3d axis = e.axis("axis");
       const double min = e.number("min"), max = e.number("max");
-      check_range(e, min, max);
+      check_limit_range(e, min, max);
       return make_angular_limit(ia, a, ib, b, axis, min, max);
     }
     case ConstraintType::positional_limit: {
       const Eigen::Vector3d anchor = e.vector("anchor");
       const Eigen::Vector3d axis = e.axis("axis");
       const double min = e.number("min"), max = e.number("max");
-      check_range(e, min, max);
+      check_limit_range(e, min, max);
       return make_positional_limit(ia, a, ib, b, anchor, axis, min, max);
     }
     case ConstraintType::joint_set:
-    case ConstraintType::coordinate_limit: break;  // refused above
+    case ConstraintType::coordinate_limit:
+    case ConstraintType::dof_drive:
+    case ConstraintType::dof_motor: break;  // refused above
   }
   e.fail("unhandled constraint type");  // unreachable: the switch covers every type
 }
@@ -675,6 +679,8 @@ void write_inline(const json& v, std::string* out) {
 }  // namespace
 
 json scene_to_json(const Mechanism& m) {
+  if (!m.dofs.empty() || !m.actuators.empty() || m.fluid.active())
+    throw InputError(cat(m.name, ": joint dynamics, actuators and fluid forces (from an MJCF model) have no scene-file form"));
   json scene = json::object();
   scene["name"] = m.name;
   scene["gravity"] = to_json(m.gravity);
@@ -743,6 +749,8 @@ json scene_to_json(const Mechanism& m) {
         break;
       case ConstraintType::joint_set:
       case ConstraintType::coordinate_limit:
+      case ConstraintType::dof_drive:
+      case ConstraintType::dof_motor:
         throw InputError(cat(m.name, ": ", constraint_label(m, static_cast<int>(&c - m.constraints.data())),
                              ": a joint set (from an MJCF model) has no scene-file form"));
     }

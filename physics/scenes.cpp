@@ -779,9 +779,9 @@ bool builtin_scene(std::string_view name, Mechanism* mechanism) {
   return true;
 }
 
-Mechanism load_mechanism(const std::string& spec, MjcfDropped* dropped) {
+Mechanism load_mechanism(const std::string& spec, MjcfDropped* dropped, bool allow_dropped) {
   // An MJCF model by its extension, even if missing: MuJoCo names the problem.
-  if (is_mjcf_path(spec)) return load_mjcf(spec, dropped);
+  if (is_mjcf_path(spec)) return load_mjcf(spec, dropped, allow_dropped);
   if (std::filesystem::exists(spec)) return load_scene(spec);
   Mechanism m;
   if (builtin_scene(spec, &m)) {

@@ -36,6 +36,15 @@ namespace ldlpgs {
 
 namespace {
 
+// Constraint c's end on `body` moved onto shard `shard`, whose centre is `shift` from the body's
+// (in the body's frame): its anchor, and its chain's frame (joint_set.h), follow.
+void move_to_shard(Constraint* c, int body, int shard, const Eigen::Vector3d& shift) {
+  const bool side_a = c->body_a == body;
+  (side_a ? c->body_a : c->body_b) = shard;
+  (side_a ? c->anchor_a : c->anchor_b) -= shift;
+  if (c->chain) c->chain = shift_chain(*c->chain, side_a, shift);
+}
+
 // Shard targets the search tries: the degree (rows, welds included) a shard should carry.
 constexpr int kTargetDegrees[] = {6, 10, 15, 20, 30, 40};
 constexpr int kWeldRows = 6;
@@ -168,8 +177,7 @@ Mechanism shatter_body(const Mechanism& mechanism, int body, int k, std::vector<
   });
   for (int ci : on_body) {
     Constraint& c = m.constraints[ci];
-    const bool side_a = c.body_a == body;
-    Eigen::Vector3d& anchor = side_a ? c.anchor_a : c.anchor_b;
+    const Eigen::Vector3d& anchor = c.body_a == body ? c.anchor_a : c.anchor_b;
     int best = 0;
     double best_distance = std::numeric_limits<double>::infinity();
     for (int j = 0; j < k; ++j) {
@@ -180,10 +188,13 @@ Mechanism shatter_body(const Mechanism& mechanism, int body, int k, std::vector<
       }
     }
     degree[best] += num_rows(c);
-    (side_a ? c.body_a : c.body_b) = ids[best];
-    anchor -= offset[best] * e;
-    if (c.chain) c.chain = shift_chain(*c.chain, side_a, offset[best] * e);
+    move_to_shard(&c, body, ids[best], offset[best] * e);
   }
+  // The dofs' coordinates (actuation.h) on the body are measured on its first shard: the shards
+  // are welded, so any measures the same motion.
+  for (DofDynamics& dof : m.dofs)
+    if (dof.coordinate.body_a == body || dof.coordinate.body_b == body)
+      move_to_shard(&dof.coordinate, body, ids[0], offset[0] * e);
 
   // Welds between consecutive shards at their midpoint (any axis: a weld removes all 6 dofs).
   const Eigen::Vector3d world_axis = original.orientation * e;

@@ -190,7 +190,7 @@ void write_velocity_system(const Mechanism& m, const StepOptions& options, const
       const int i = s->blocks[k].position + r;
       double target = -options.baumgarte * cv / dt;
       if (!is_equality(con.type) && cv >= 0) target = -cv / dt;  // speculative: close the gap, not cross
-      if (!predicted.empty() && is_equality(con.type)) {
+      if (!predicted.empty() && is_equality(con.type) && con.type != ConstraintType::dof_drive) {
         // c(q0 + dt V) = c0 + dt J V + (dt^2 / 2) V^T c'' V + O(dt^3): the curvature term, from
         // the current velocities, asks J V1 = -(dt / 2) V^T c'' V, so that the chord q0 -> q1 is
         // tangent at its midpoint (a particle on a circle then keeps |x| and |v| exactly).
@@ -210,6 +210,37 @@ void write_velocity_system(const Mechanism& m, const StepOptions& options, const
     else write_rows(k, known[k]);
   }
   std::fill(s->compliance.begin(), s->compliance.end(), options.compliance);
+}
+
+// The dof_drive and dof_motor rows' targets, softness and bounds (joint_dynamics) over what
+// write_velocity_system wrote (their c is 0, so R = -J (V0 + W F dt)). A compliance C is absolute:
+// eps_i = C / H_ii, at most kInertCompliance (an inert row: its impulse ~1e-12 of a rigid one's).
+void write_dof_rows(const Mechanism& m, std::span<const DofRow> rows, System* s) {
+  constexpr double kInertCompliance = 1e12;
+  for (int k = 0; k < static_cast<int>(m.constraints.size()); ++k) {
+    const ConstraintType type = m.constraints[k].type;
+    if (type != ConstraintType::dof_drive && type != ConstraintType::dof_motor) continue;
+    const int i = s->blocks[k].position;
+    const DofRow& row = rows[k];
+    s->rhs[i] += row.target;
+    if (row.compliance > 0) s->compliance[i] = std::min(row.compliance / row_diagonal(*s, k, 0), kInertCompliance);
+    if (type == ConstraintType::dof_motor) {
+      s->lower[i] = row.lower;
+      s->upper[i] = row.upper;
+    }
+  }
+}
+
+// The medium's wrench on every moving body (fluid.h), onto `load` (6 per body).
+void add_fluid_loads(const Mechanism& m, std::span<double> load) {
+  for (size_t b = 0; b < m.bodies.size(); ++b) {
+    Eigen::Vector3d force, torque;
+    fluid_wrench(m.bodies[b], m.fluid, &force, &torque);
+    for (int x = 0; x < 3; ++x) {
+      load[6 * b + x] += force[x];
+      load[6 * b + 3 + x] += torque[x];
+    }
+  }
 }
 
 // q <- exp(dtheta) q, dtheta a world-frame rotation vector (left product: world frame; the right
@@ -239,7 +270,14 @@ System build_system(const Mechanism& m, const StepOptions& options) {
   const std::vector<int> column = body_columns(m);
   System s = system_structure(m, column);
   std::vector<double> v0(6 * static_cast<size_t>(s.num_columns));
-  write_velocity_system(m, options, column, {}, {}, {}, v0, &s);
+  // the joint dynamics at zero controls
+  std::vector<double> load(6 * m.bodies.size(), 0.0), controls(m.actuators.size(), 0.0);
+  std::vector<DofState> states(m.dofs.size());
+  std::vector<DofRow> rows(m.constraints.size());
+  joint_dynamics(m, controls, m.timestep, states, load, rows);
+  if (m.fluid.active()) add_fluid_loads(m, load);
+  write_velocity_system(m, options, column, load, {}, {}, v0, &s);
+  write_dof_rows(m, rows, &s);
   return s;
 }
 
@@ -260,7 +298,10 @@ Simulation::Simulation(Mechanism mechanism, const StepOptions& options)
       saved_orientation_(mechanism_.bodies.size()),
       joint_blocks_(static_cast<int>(mechanism_.constraints.size())),
       jointed_(mechanism_.bodies.size(), 0),
-      carrying_(mechanism_.bodies.size(), 0) {
+      carrying_(mechanism_.bodies.size(), 0),
+      controls_(mechanism_.actuators.size(), 0.0),
+      dof_states_(mechanism_.dofs.size()),
+      dof_rows_(mechanism_.constraints.size()) {
   for (const Constraint& c : mechanism_.constraints)
     if (is_equality(c.type)) jointed_[c.body_a] = jointed_[c.body_b] = 1;
   if (has_shapes(mechanism_)) {
@@ -317,6 +358,7 @@ void Simulation::velocity_system() {
   write_velocity_system(mechanism_, options_, column_, load_,
                         options_.curvature_target ? predicted_ : std::span<const double>(),
                         evaluated_valid_ ? evaluated_ : std::span<const ConstraintRows>(), v0_, &system_);
+  write_dof_rows(mechanism_, dof_rows_, &system_);
   contact_rows(/*velocity=*/true, /*with_jacobian=*/true);
 }
 
@@ -347,6 +389,14 @@ double Simulation::position_rhs(bool with_jacobian) {
 
 bool Simulation::post_stabilize(StepReport* report) {
   Solver& solver = projector_ ? *projector_ : solver_;
+  // A dof_motor bounds a velocity impulse (friction loss, a servo's force): no position correction
+  // meets it. (A dof_drive stays, as the step factored it: with c = 0 it turns the projection's
+  // metric M into M + (a + dt b) z z^T, the joints still met exactly.)
+  for (int k = 0; k < static_cast<int>(mechanism_.constraints.size()); ++k)
+    if (mechanism_.constraints[k].type == ConstraintType::dof_motor) {
+      const int i = system_.blocks[k].position;
+      system_.lower[i] = system_.upper[i] = 0;
+    }
   const int cap = options_.post_stabilize;
   bool refactor = options_.post_stabilize_refactor || (options_.contacts.refactor_projection && collision_);
   double previous = kUnbounded;
@@ -680,6 +730,8 @@ StepReport Simulation::step() {
     report.contacts = static_cast<int>(contacts_.size());
     report.contact_us = us(start, Clock::now());
   }
+  if (!m.dofs.empty() || !m.actuators.empty()) joint_dynamics(m, controls_, dt, dof_states_, load_, dof_rows_);
+  if (m.fluid.active()) add_fluid_loads(m, load_);
   velocity_system();
   const auto solve_start = Clock::now();
   report.result = solver_.solve(system_, lambda_, dv_,
@@ -881,6 +933,11 @@ void Simulation::set_gravity(const Eigen::Vector3d& gravity) {
 void Simulation::set_timestep(double timestep) {
   check_range("set_timestep", "", "timestep", timestep, MechanismRanges::timestep_min, MechanismRanges::timestep_max, "s");
   mechanism_.timestep = timestep;
+}
+
+void Simulation::set_controls(std::span<const double> controls) {
+  check_controls(mechanism_.actuators, controls);
+  std::copy(controls.begin(), controls.end(), controls_.begin());
 }
 
 }  // namespace ldlpgs

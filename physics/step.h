@@ -180,6 +180,12 @@ class Simulation {
   // the step applied (Contact::impulse: normal, two friction).
   std::span<const Contact> contacts() const { return contacts_; }
   void set_timestep(double timestep);                // s, finite and > 0
+  // The actuators' controls (MuJoCo's ctrl, in the order of mechanism().actuators), applied by
+  // every step from the next on; zero at the start. Checked in every build (check_controls: the
+  // count, finite, inside ctrlrange where limited) and refused with an InputError naming the
+  // actuator.
+  void set_controls(std::span<const double> controls);
+  std::span<const double> controls() const { return controls_; }
 
  private:
   RigidBody& writable(int body, const char* what, bool dynamic_only);
@@ -230,6 +236,10 @@ class Simulation {
   std::vector<Eigen::Matrix3d> rotations_;     // the bodies' orientations, per pass over the contacts
   std::vector<Contact> contacts_, previous_contacts_;  // (previous: also the reordering's buffer)
   std::vector<ContactKey> contact_keys_;       // make_contacts' and the reordering's scratch
+  // Joint dynamics and actuators (physics/actuation.h)
+  std::vector<double> controls_;    // (size actuators)
+  std::vector<DofState> dof_states_;  // joint_dynamics' scratch (size dofs)
+  std::vector<DofRow> dof_rows_;    // the dof_drive and dof_motor rows' targets (size constraints)
 };
 
 }  // namespace ldlpgs

@@ -24,7 +24,7 @@ namespace {
 
 // What `ldlpgs step SCENE` accepts (apps/step_command.cpp's load_mechanism, which is not in the
 // library), and a dict in the scene file format.
-Mechanism load_mechanism(py::handle scene) {
+Mechanism load_mechanism(py::handle scene, bool allow_dropped = false) {
   if (py::isinstance<py::dict>(scene)) {
     // JSON has no NaN or infinity: Python's dumps would write NaN, which nlohmann's parser
     // refused with its own parse_error (a RuntimeError). What dumps cannot write (a NaN, a value
@@ -60,9 +60,11 @@ Mechanism load_mechanism(py::handle scene) {
   // What an MJCF conversion leaves out (contacts, actuators, ...) is a warning, as the program
   // prints it on stderr.
   MjcfDropped dropped;
-  Mechanism m = load_mechanism(spec, &dropped);
-  if (const std::string line = describe(dropped); !line.empty())
-    if (PyErr_WarnEx(PyExc_UserWarning, (spec + ": " + line).c_str(), 1) < 0) throw py::error_already_set();
+  Mechanism m = ldlpgs::load_mechanism(spec, &dropped, allow_dropped);
+  std::string lines = describe(dropped);
+  for (const std::string& line : dropped.unmodelled) lines += "; " + line;
+  if (!lines.empty())
+    if (PyErr_WarnEx(PyExc_UserWarning, (spec + ": " + lines).c_str(), 1) < 0) throw py::error_already_set();
   return m;
 }
 
@@ -130,7 +132,7 @@ Simulation make_simulation(py::handle scene, const std::string& solver, int iter
                            const std::string& schedule, double compliance, double baumgarte,
                            std::optional<int> post_stabilize, bool post_stabilize_refactor,
                            bool post_stabilize_own_factor, bool curvature_target,
-                           std::optional<double> timestep, bool diagnostics) {
+                           std::optional<double> timestep, bool diagnostics, bool allow_dropped) {
   // The checks `ldlpgs step` makes of its options (apps/step_command.cpp), with the keywords' names.
   StepOptions o;
   parse_name("solver", solver, [&](const std::string& s) { return solver_kind_from_string(s, &o.solver.kind); },
@@ -155,7 +157,7 @@ Simulation make_simulation(py::handle scene, const std::string& solver, int iter
   }
   o.curvature_target = curvature_target;
   o.diagnostics = diagnostics;
-  Mechanism m = load_mechanism(scene);
+  Mechanism m = load_mechanism(scene, allow_dropped);
   set_timestep(m, timestep);
   check_solver_fits(o.solver.kind, m);
   return Simulation(std::move(m), o);
@@ -230,7 +232,7 @@ void bind_physics(py::module_& m) {
            py::arg("post_stabilize_refactor") = defaults.post_stabilize_refactor,
            py::arg("post_stabilize_own_factor") = false,
            py::arg("curvature_target") = defaults.curvature_target, py::arg("timestep") = py::none(),
-           py::arg("diagnostics") = true)
+           py::arg("diagnostics") = true, py::arg("allow_dropped") = false)
       .def(
           "step",
           [](py::object self, int steps) {
@@ -410,6 +412,23 @@ void bind_physics(py::module_& m) {
         for (const RigidBody& b : s.mechanism().bodies) is_static.push_back(b.is_static);
         return numpy_copy<uint8_t>(is_static).attr("astype")("bool");
       }, "(bodies,): True for static bodies (never move).")
+      .def_property(
+          "controls", [](const Simulation& s) { return numpy_copy<double>(s.controls()); },
+          [](Simulation& s, py::handle x) {
+            const auto a = dense_copy(x, "controls");
+            if (a.ndim() != 1) throw ArgumentError("controls must be one-dimensional (one per actuator)");
+            s.set_controls({a.data(), static_cast<size_t>(a.size())});
+          },
+          "(actuators,): the actuators' controls (MuJoCo's ctrl, in actuator_names' order), applied from the next "
+          "step on; zero at the start. The wrong count, a non-finite value or one outside a limited ctrlrange "
+          "raises, naming the actuator.")
+      .def_property_readonly("actuator_names",
+                             [](const Simulation& s) {
+                               std::vector<std::string> names;
+                               for (const Actuator& a : s.mechanism().actuators) names.push_back(a.name);
+                               return names;
+                             },
+                             "The actuators' names, in the model's order (an MJCF model's; others have none).")
       .def_property_readonly("name", [](const Simulation& s) { return s.mechanism().name; })
       .def_property_readonly("time", &Simulation::time, "Simulated time (s).")
       .def_property_readonly("num_rows", [](const Simulation& s) { return s.mechanism().num_rows(); })

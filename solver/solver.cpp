@@ -196,7 +196,9 @@ double velocity_residual(const System& system, std::span<const double> lambda, s
     }
     for (int r = 0; r < b.size; ++r) {
       const int i = b.position + r;
-      const double g = row_times(system, k, r, dv) - system.rhs[i];  // J_i dV - R_i
+      // J_i dV + eps_i H_ii lambda_i - R_i (a compliant row meets its target less its give)
+      double g = row_times(system, k, r, dv) - system.rhs[i];
+      if (system.compliance[i] != 0) g += system.compliance[i] * row_diagonal(system, k, r) * lambda[i];
       // velocity units throughout: an unbounded or strictly interior row must meet its target;
       // a row at its lower bound may only exceed it (g >= 0), at its upper bound only fall short.
       double lo, hi;

@@ -119,9 +119,10 @@ class Solver {
   std::unique_ptr<SolverState> state_;
 };
 
-// The velocity residual, max over rows (m/s or rad/s): |J_i dV - R_i| on rows that must meet
-// their target (unbounded, or lambda strictly inside its bounds); on a row whose lambda sits at a
-// bound, only the side the bound forbids (lower: J_i dV < R_i, upper: J_i dV > R_i).
+// The velocity residual, max over rows (m/s or rad/s): |g_i|, g_i = J_i dV + eps_i H_ii lambda_i
+// - R_i (the compliant system's own equation), on rows that must meet their target (unbounded, or
+// lambda strictly inside its bounds); on a row whose lambda sits at a bound, only the side the
+// bound forbids (lower: g_i < 0, upper: g_i > 0).
 double velocity_residual(const System& system, std::span<const double> lambda, std::span<const double> dv);
 
 // H_0 + diag(eps_i (H_0)_ii), H_0 = J_0 W J_0^T over the equality blocks: the matrix ldl-pgs and direct

@@ -83,6 +83,20 @@ bool System::same_structure(const System& other) const {
   return true;
 }
 
+double row_diagonal(const System& system, int block, int row) {
+  const RowBlock& b = system.blocks[block];
+  double h = 0;
+  const auto add = [&](const double* j, int column) {
+    if (column < 0) return;
+    const double* w = system.inverse_mass.data() + 36 * static_cast<size_t>(column);
+    for (int x = 0; x < 6; ++x)
+      for (int y = 0; y < 6; ++y) h += j[x] * w[6 * x + y] * j[y];
+  };
+  add(system.cell_a(block) + 6 * row, b.column_a);
+  add(system.cell_b(block) + 6 * row, b.column_b);
+  return h;
+}
+
 void multiply_jacobian(const System& system, std::span<const double> x, std::span<double> y) {
   assert(static_cast<int>(x.size()) >= 6 * system.num_columns && static_cast<int>(y.size()) >= system.num_rows);
   for (size_t k = 0; k < system.blocks.size(); ++k) {

@@ -72,6 +72,9 @@ struct System {
   bool same_structure(const System& other) const;
 };
 
+// H_ii = J_i W J_i^T of row r of block k.
+double row_diagonal(const System& system, int block, int row);
+
 // y = J x (x: num_columns * 6, y: num_rows) and x += W J^T lambda.
 void multiply_jacobian(const System& system, std::span<const double> x, std::span<double> y);
 void add_velocity_change(const System& system, std::span<const double> lambda, std::span<double> dv);

@@ -61,7 +61,9 @@ def test_mjcf_model(tmp_path):
     if not os.path.exists(model):
         pytest.skip("libmujoco-samples not installed")
     _, positions, _ = program_final_pose(model, tmp_path)
-    with pytest.warns(UserWarning, match="humanoid.xml: dropped: 21 actuators"):
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # nothing dropped: its joint dynamics and actuators are converted
         sim = ldlpgs.Simulation(model)
     sim.step(STEPS)
     # dynamic bodies only: the program's trace gives MuJoCo's massless world body a NaN position
@@ -69,6 +71,40 @@ def test_mjcf_model(tmp_path):
     for i, body in enumerate(sim.body_names):
         if not sim.static[i]:
             np.testing.assert_allclose(sim.positions[i], positions[body], rtol=1e-12, atol=1e-12)
+
+
+GYMNASIUM = SOURCE / "tests" / "data" / "mjcf" / "gymnasium"
+
+
+def test_controls_drive_the_actuators():
+    sim = ldlpgs.Simulation(str(GYMNASIUM / "reacher.xml"))
+    assert sim.actuator_names == ["actuator0", "actuator1"]  # unnamed in the file: kind and index
+    np.testing.assert_array_equal(sim.controls, [0, 0])
+    pushed = ldlpgs.Simulation(str(GYMNASIUM / "reacher.xml"))
+    pushed.controls = np.array([0.5, 0.0])
+    np.testing.assert_array_equal(pushed.controls, [0.5, 0])
+    sim.step(10)
+    pushed.step(10)
+    # the first link turns about +z (the motor's joint axis) when pushed, and not when not
+    turned = lambda s: np.arctan2(s.positions[1][1], s.positions[1][0])
+    assert turned(pushed) > turned(sim) + 0.05
+    with pytest.raises(ldlpgs.InputError, match="3 given, the model has 2 actuators"):
+        sim.controls = [0, 0, 0]
+    with pytest.raises(ldlpgs.InputError, match=r"actuator .* \(1\): 2 outside its ctrlrange \[-1, 1\]"):
+        sim.controls = [0, 2]
+    with pytest.raises(ldlpgs.InputError, match="not a finite number"):
+        sim.controls = [np.nan, 0]
+
+
+def test_unmodelled_dynamics_raise_unless_allowed(tmp_path):
+    model = tmp_path / "tendon.xml"
+    model.write_text('<mujoco><worldbody><body><joint name="j"/><geom size=".1"/></body></worldbody>'
+                     '<tendon><fixed name="t" limited="true" range="-1 1"><joint joint="j" coef="1"/></fixed>'
+                     '</tendon></mujoco>')
+    with pytest.raises(ldlpgs.InputError, match='tendon "t"'):
+        ldlpgs.Simulation(str(model))
+    with pytest.warns(UserWarning, match='tendon "t": its range'):
+        ldlpgs.Simulation(str(model), allow_dropped=True).step(2)
 
 
 def test_state_arrays():

@@ -56,8 +56,9 @@ TEST(LdlpgsExport, MjcfHumanoid) {
   const std::string mtx = temp_path("humanoid.mtx"), blocks = temp_path("humanoid.blocks");
   const Result r = run("export " + kHumanoid + " --no-shatter --matrix-file " + mtx + " --blocks-file " + blocks);
   ASSERT_EQ(r.code, 0) << r.err;
-  // The equality rows: 6 x 16 bodies - 27 degrees of freedom (MuJoCo's nv) = 69.
-  EXPECT_EQ(read_matrix_market(mtx).n, 69);
+  // The equality rows: 6 x 16 bodies - 27 degrees of freedom (MuJoCo's nv) = 69 joint rows, and
+  // a dof_drive row for each of the 21 hinges (their armature and damping: physics/actuation.h).
+  EXPECT_EQ(read_matrix_market(mtx).n, 69 + 21);
 }
 
 #endif

@@ -280,6 +280,21 @@ void expect_ball_cone(const mjModel* m, const mjData* d, const Constraint& c, co
   }
 }
 
+// A dof_drive or dof_motor (joint dynamics, actuators): a rate, not a joint's row.
+bool acts_on_a_dof(const Constraint& c) {
+  return c.type == ConstraintType::dof_drive || c.type == ConstraintType::dof_motor;
+}
+
+// Its row measures one of MuJoCo's dofs at unit rate (J V_k = 1 on that dof, 0 on the rest).
+void expect_dof_rate(const mjModel* m, const mjData* d, const Constraint& c, const Eigen::MatrixXd& jv) {
+  (void)d;
+  Eigen::Index k = 0;
+  jv.row(0).cwiseAbs().maxCoeff(&k);
+  EXPECT_NEAR(jv(0, k), 1.0, kRounding) << to_string(c.type) << " on MuJoCo's dof " << k;
+  EXPECT_LE(jv.row(0).cwiseAbs().sum() - std::abs(jv(0, k)), kRounding) << "one dof only";
+  EXPECT_LT(k, m->nv);
+}
+
 // The joints' rows against MuJoCo's kinematics of model m (d: at qpos0 on entry): they remove
 // exactly 6 n - nv degrees of freedom, hold at qpos0, and at random configurations of MuJoCo's
 // coordinates still hold and annihilate every dof's motion; each limit measures its coordinate.
@@ -291,7 +306,7 @@ void expect_joints_match(const mjModel* m, mjData* d, Mechanism* mechanism, std:
   const size_t joint_constraints = mech.constraints.size() - equalities;
   int joint_rows = 0;
   for (size_t c = 0; c < joint_constraints; ++c)
-    if (is_equality(mech.constraints[c].type)) joint_rows += num_rows(mech.constraints[c]);
+    if (is_equality(mech.constraints[c].type) && !acts_on_a_dof(mech.constraints[c])) joint_rows += num_rows(mech.constraints[c]);
   EXPECT_EQ(6 * mech.num_dynamic_bodies() - joint_rows, m->nv) << "degrees of freedom";
 
   // At qpos0 every row holds, equalities included.
@@ -325,6 +340,10 @@ void expect_joints_match(const mjModel* m, mjData* d, Mechanism* mechanism, std:
       const Constraint& c = mech.constraints[ci];
       const ConstraintRows rows = evaluate(c, mech.bodies[c.body_a], mech.bodies[c.body_b]);
       const Eigen::MatrixXd jv = rows_times_motions(rows, c, jac);
+      if (acts_on_a_dof(c)) {
+        expect_dof_rate(m, d, c, jv);
+        continue;
+      }
       if (is_equality(c.type)) {
         for (int r = 0; r < rows.rows; ++r) worst_c = std::max(worst_c, std::abs(rows.c[r]));
         worst_jv = std::max(worst_jv, jv.cwiseAbs().maxCoeff());
@@ -568,34 +587,61 @@ TEST(Mjcf, HumanoidFallingWhileMovingFollowsFreeFall) {
 }
 
 TEST(Mjcf, DroppedIsCountedAndDescribed) {
-  MjcfDropped dropped;
-  load_mjcf(kModels + "/humanoid/humanoid.xml", &dropped);
-  EXPECT_EQ(dropped.geoms, 0) << "planes, spheres and capsules: all shapes";
-  EXPECT_EQ(dropped.actuators, 21);
-  EXPECT_EQ(dropped.ranges, 0) << "the hips' three hinges: a joint set with its ranges";
-  EXPECT_EQ(dropped.fluid, 0);
-  MjcfDropped swimmer;
-  load_mjcf(kGymnasium + "/swimmer.xml", &swimmer);
-  EXPECT_EQ(swimmer.fluid, 1) << "its option viscosity";
-  EXPECT_NE(describe(swimmer).find("fluid forces (option density, viscosity)"), std::string::npos) << describe(swimmer);
-  const std::string line = describe(dropped);
-  EXPECT_EQ(line.find("geoms"), std::string::npos) << line;
-  EXPECT_NE(line.find("21 actuators"), std::string::npos) << line;
-  EXPECT_EQ(line.find('\n'), std::string::npos) << "one line";
-  // cylinders and ellipsoids (shapes), and explicit contact pairs and excludes (dropped)
-  const std::string path = temp_file("dropped.xml", "<mujoco><worldbody><body name=\"a\"><freejoint/>"
-                                                    "<geom type=\"cylinder\" size=\".1 .2\"/><geom type=\"ellipsoid\" "
-                                                    "size=\".1 .2 .3\"/><geom type=\"sphere\" size=\".1\"/></body>"
-                                                    "<body name=\"b\"><freejoint/><geom type=\"box\" size=\".1 .1 .1\"/>"
-                                                    "</body></worldbody><contact><exclude body1=\"a\" body2=\"b\"/>"
-                                                    "</contact></mujoco>");
-  dropped = MjcfDropped{};
-  const Mechanism m = load_mjcf(path, &dropped);
-  EXPECT_EQ(dropped.geoms, 0) << "cylinders and ellipsoids are shapes";
-  EXPECT_EQ(dropped.contact_pairs, 1);
-  EXPECT_EQ(m.bodies[1].shapes.size(), 3u);
-  EXPECT_EQ(m.bodies[2].shapes.size(), 1u);
-  EXPECT_EQ(describe(dropped), "dropped: 1 contact pairs and excludes");
+  // MuJoCo's humanoid and every Gymnasium model: nothing that changes the dynamics is dropped
+  std::vector<std::string> paths = gymnasium_models();
+  paths.push_back(kModels + "/humanoid/humanoid.xml");
+  for (const std::string& path : paths) {
+    MjcfDropped dropped;
+    load_mjcf(path, &dropped);
+    EXPECT_TRUE(dropped.unmodelled.empty()) << path << ": " << dropped.unmodelled.front();
+    EXPECT_EQ(dropped.geoms + dropped.contact_pairs + dropped.tendons + dropped.actuators + dropped.joint_dynamics +
+                  dropped.ranges + dropped.fluid,
+              0)
+        << path << ": " << describe(dropped);
+  }
+  const Mechanism swimmer = load_mjcf(kGymnasium + "/swimmer.xml");
+  EXPECT_TRUE(swimmer.fluid.active()) << "its option viscosity and density";
+
+  // Each kind of unmodelled element refused by default, naming it; with allow_dropped, counted
+  // and described on one line.
+  struct Case {
+    const char* xml;  // inside <mujoco>
+    const char* named;
+  };
+  const std::string bodies =
+      "<worldbody><body name=\"a\"><joint type=\"free\" name=\"root\"/><geom type=\"cylinder\" size=\".1 .2\"/>"
+      "<geom type=\"ellipsoid\" size=\".1 .2 .3\"/><body name=\"c\" pos=\"0 0 .5\"><joint name=\"elbow\" "
+      "axis=\"0 1 0\"/><geom type=\"sphere\" size=\".1\"/></body></body>"
+      "<body name=\"b\" pos=\"1 0 0\"><freejoint/><geom type=\"box\" size=\".1 .1 .1\"/></body></worldbody>";
+  const Case cases[] = {
+      {"<contact><exclude body1=\"a\" body2=\"b\"/></contact>", "contact exclude 0"},
+      {"<tendon><fixed name=\"t\" limited=\"true\" range=\"-1 1\"><joint joint=\"elbow\" coef=\"1\"/></fixed>"
+       "</tendon>",
+       "tendon \"t\""},
+      {"<actuator><general name=\"slow\" joint=\"elbow\" dyntype=\"filter\" dynprm=\"1\"/></actuator>",
+       "actuator \"slow\""},
+      {"<default><joint damping=\"1\"/></default>", "joint \"root\""},
+  };
+  for (const Case& c : cases) {
+    const std::string path = temp_file("dropped.xml", std::string("<mujoco>") + c.xml + bodies + "</mujoco>");
+    try {
+      load_mjcf(path);
+      ADD_FAILURE() << c.xml << ": not refused";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(c.named), std::string::npos) << what;
+      EXPECT_NE(what.find("--allow-dropped"), std::string::npos) << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos) << "one line";
+    }
+    MjcfDropped dropped;
+    const Mechanism m = load_mjcf(path, &dropped, /*allow_dropped=*/true);
+    ASSERT_EQ(dropped.unmodelled.size(), 1u) << c.xml;
+    EXPECT_EQ(dropped.geoms, 0) << "cylinders and ellipsoids are shapes";
+    EXPECT_EQ(m.bodies[1].shapes.size(), 2u);
+    const std::string line = describe(dropped);
+    EXPECT_EQ(line.rfind("dropped: 1 ", 0), 0u) << line;
+    EXPECT_EQ(line.find('\n'), std::string::npos) << "one line";
+  }
 }
 
 // The humanoid's geoms: the floor a plane on the static world, 16 capsules and 3 spheres on the
@@ -622,106 +668,135 @@ TEST(Mjcf, HumanoidShapesMatchMuJoCo) {
   for (const Constraint& c : mech.constraints) EXPECT_FALSE(c.collide);
 }
 
-// Constraint::collide as MuJoCo's body-pair filter: a body collides with the world it is
-// hinged to, not with a moving parent unless filterparent is disabled; bodies welded together
-// (no joint) never; an equality between unrelated bodies does not keep them apart.
-// Every Gymnasium model steps 10 s of its own timestep, passive, with the ldl-pgs solver: every
-// step sound (run_failure), its joints and ranges held within 1e-6 (m, rad) at the end of every
-// step, and its contacts within the slop plus 1 mm. A model that starts outside a range (the
-// ant's ankles, 30 degrees out at qpos0) is held from the step its ranges are first met, within
-// 10 steps. The limits' LCP is solved by the schur schedule: the default talk schedule leaves
-// inverted_pendulum's pole 1e-4 m off where it strikes its range (papers/physics.md, "MJCF
-// models: Gymnasium's").
-TEST(Mjcf, GymnasiumModelsStepTenSeconds) {
-  for (const std::string& path : gymnasium_models()) {
-    SCOPED_TRACE(path);
-    Mechanism m = load_mjcf(path);
-    StepOptions options;
-    options.solver.kind = SolverKind::ldl_pgs;
-    options.solver.schedule = HybridSchedule::schur;
-    options.diagnostics = true;
-    const double size = mechanism_size(m);
-    const int steps = static_cast<int>(std::lround(10.0 / m.timestep));
-    const ConstraintError initial = constraint_error(m);
-    bool held = initial.position_max <= 1e-6 && initial.angular_max <= 1e-6;
-    int settled_at = 0;
-    Simulation sim(std::move(m), options);
-    ConstraintError worst;
-    double penetration = 0;
-    for (int s = 1; s <= steps; ++s) {
-      const StepReport r = sim.step();
-      const std::string failure = run_failure(r, size);
-      ASSERT_TRUE(failure.empty()) << "step " << s << ": " << failure;
-      penetration = std::max(penetration, r.penetration_max_m);
-      if (!held) {
-        held = r.error.position_max <= 1e-6 && r.error.angular_max <= 1e-6;
-        settled_at = s;
-        continue;
-      }
-      worst.position_max = std::max(worst.position_max, r.error.position_max);
-      worst.angular_max = std::max(worst.angular_max, r.error.angular_max);
+// Every Gymnasium model steps 10 s of its own timestep with the ldl-pgs solver, passive and under
+// a seeded random control (each actuator's uniform in its ctrlrange, [-1, 1] if unlimited, drawn
+// anew every step): every step sound (run_failure), its joints and ranges held within 1e-6 (m,
+// rad) at the end of every step, and its contacts within the slop plus 1 mm. A model that starts
+// outside a range (the ant's ankles, 30 degrees out at qpos0) is held from the step its ranges
+// are first met, within 10 steps. The limits' LCP is solved by the schur schedule: the default
+// talk schedule leaves inverted_pendulum's pole 1e-4 m off where it strikes its range
+// (papers/physics.md, "MJCF models: Gymnasium's").
+void step_ten_seconds(const std::string& path, bool random_controls) {
+  SCOPED_TRACE(path);
+  Mechanism m = load_mjcf(path);
+  StepOptions options;
+  options.solver.kind = SolverKind::ldl_pgs;
+  options.solver.schedule = HybridSchedule::schur;
+  options.diagnostics = true;
+  const double size = mechanism_size(m);
+  const int steps = static_cast<int>(std::lround(10.0 / m.timestep));
+  const ConstraintError initial = constraint_error(m);
+  bool held = initial.position_max <= 1e-6 && initial.angular_max <= 1e-6;
+  int settled_at = 0;
+  const std::vector<Actuator> actuators = m.actuators;
+  Simulation sim(std::move(m), options);
+  std::mt19937 rng(51);
+  std::vector<double> u(actuators.size(), 0.0);
+  ConstraintError worst;
+  double penetration = 0;
+  for (int s = 1; s <= steps; ++s) {
+    for (size_t i = 0; i < u.size() && random_controls; ++i) {
+      const Actuator& a = actuators[i];
+      u[i] = std::uniform_real_distribution<double>(a.ctrl_limited ? a.ctrl_min : -1, a.ctrl_limited ? a.ctrl_max : 1)(rng);
     }
-    std::printf("%s: %d steps, ranges met at step %d, then joints %.3g m / %.3g rad; penetration %.3g m\n",
-                std::filesystem::path(path).filename().c_str(), steps, settled_at, worst.position_max,
-                worst.angular_max, penetration);
-    EXPECT_LE(settled_at, 10);
-    EXPECT_LE(worst.position_max, 1e-6);
-    EXPECT_LE(worst.angular_max, 1e-6);
-    EXPECT_LE(penetration, options.contacts.slop + 1e-3);
+    sim.set_controls(u);
+    const StepReport r = sim.step();
+    const std::string failure = run_failure(r, size);
+    ASSERT_TRUE(failure.empty()) << "step " << s << ": " << failure;
+    penetration = std::max(penetration, r.penetration_max_m);
+    if (!held) {
+      held = r.error.position_max <= 1e-6 && r.error.angular_max <= 1e-6;
+      settled_at = s;
+      continue;
+    }
+    worst.position_max = std::max(worst.position_max, r.error.position_max);
+    worst.angular_max = std::max(worst.angular_max, r.error.angular_max);
   }
+  std::printf("%s, %s: %d steps, ranges met at step %d, then joints %.3g m / %.3g rad; penetration %.3g m\n",
+              std::filesystem::path(path).filename().c_str(), random_controls ? "random controls" : "passive", steps,
+              settled_at, worst.position_max, worst.angular_max, penetration);
+  EXPECT_LE(settled_at, 10);
+  EXPECT_LE(worst.position_max, 1e-6);
+  EXPECT_LE(worst.angular_max, 1e-6);
+  EXPECT_LE(penetration, options.contacts.slop + 1e-3);
+}
+
+TEST(Mjcf, GymnasiumModelsStepTenSeconds) {
+  for (const std::string& path : gymnasium_models()) step_ten_seconds(path, /*random_controls=*/false);
+}
+
+TEST(Mjcf, GymnasiumModelsStepTenSecondsUnderRandomControls) {
+  for (const std::string& path : gymnasium_models()) step_ten_seconds(path, /*random_controls=*/true);
 }
 
 // The Gymnasium models without contacts, and the planar walkers with contacts off (in free fall:
 // their roots are joint sets), against MuJoCo itself: every dof started at 0.5 (rad or m)/s, the
 // bodies' centres after 1 s of our steps at the model's timestep against MuJoCo's RK4 at 1e-4 s,
-// beside MuJoCo's own semi-implicit Euler at the model's timestep (ours is one too). Both sides
-// with what the conversion drops switched off (passive forces, armature, friction loss, fluid,
-// actuation): this checks the bodies' inertia frames, the joints' rows and the limits, not those.
-// Ours must be within twice MuJoCo's Euler error, or 1e-3 m.
+// beside MuJoCo's own semi-implicit Euler at the model's timestep (ours is one too). With every
+// joint's armature, damping, spring and friction loss and the actuators, passive (controls 0)
+// and under a fixed sinusoidal control inside each ctrlrange. Ours must be within twice MuJoCo's
+// Euler error, or 1e-3 m: this checks the inertia frames, the joints' rows, the limits, armature,
+// damping, springs and gear.
 struct Fidelity {
   double ours = 0, euler = 0;  // largest |x_b - x_b(RK4)| over the bodies at 1 s (m)
 };
 
-ModelPtr stripped_model(const std::string& path, int integrator, double timestep) {
+ModelPtr reference_model(const std::string& path, int integrator, double timestep) {
   ModelPtr m = mujoco_model(path);
-  m->opt.disableflags |= mjDSBL_PASSIVE | mjDSBL_ACTUATION | mjDSBL_FRICTIONLOSS | mjDSBL_CONTACT;
-  for (int k = 0; k < m->nv; ++k) m->dof_armature[k] = m->dof_damping[k] = m->dof_frictionloss[k] = 0;
-  for (int j = 0; j < m->njnt; ++j) m->jnt_stiffness[j] = 0;
-  m->opt.density = m->opt.viscosity = 0;
+  m->opt.disableflags |= mjDSBL_CONTACT;
   m->opt.integrator = integrator;
   m->opt.timestep = timestep;
   return m;
 }
 
+// Actuator i's control at time t: a sine of its own frequency, a tenth of its ctrlrange wide
+// about its middle (0.1 about 0 where unlimited): mild enough that the pendulums and the reacher
+// stay off their ranges for the second, where MuJoCo's soft limits and our hard ones part.
+double sine_control(const mjModel* m, int i, double t) {
+  const double wave = std::sin(2 * M_PI * (1 + 0.37 * i) * t + i);
+  if (!m->actuator_ctrllimited[i]) return 0.1 * wave;
+  const double lo = m->actuator_ctrlrange[2 * i], hi = m->actuator_ctrlrange[2 * i + 1];
+  return 0.5 * (lo + hi) + 0.05 * (hi - lo) * wave;
+}
+
 // MuJoCo's centres of mass (xipos) after `seconds` from qpos0 at qvel = 0.5.
-std::vector<Vector3d> mujoco_run(const mjModel* m, double seconds) {
+std::vector<Vector3d> mujoco_run(const mjModel* m, double seconds, bool controlled) {
   const DataPtr data(mj_makeData(m));
   mjData* d = data.get();
   for (int k = 0; k < m->nv; ++k) d->qvel[k] = 0.5;
   const int steps = static_cast<int>(std::lround(seconds / m->opt.timestep));
-  for (int s = 0; s < steps; ++s) mj_step(m, d);
+  for (int s = 0; s < steps; ++s) {
+    for (int i = 0; i < m->nu; ++i) d->ctrl[i] = controlled ? sine_control(m, i, s * m->opt.timestep) : 0;
+    mj_step(m, d);
+  }
   std::vector<Vector3d> x;
   for (int b = 0; b < m->nbody; ++b) x.emplace_back(d->xipos + 3 * b);
   return x;
 }
 
-Fidelity fidelity(const std::string& path) {
+Fidelity fidelity(const std::string& path, bool controlled) {
   constexpr double kSeconds = 1;
   Mechanism mech = load_mjcf(path);
   for (RigidBody& b : mech.bodies) b.shapes.clear();  // contacts off, as in MuJoCo's runs
-  const ModelPtr reference = stripped_model(path, mjINT_RK4, 1e-4);
-  const ModelPtr euler = stripped_model(path, mjINT_EULER, mech.timestep);
+  const ModelPtr reference = reference_model(path, mjINT_RK4, 1e-4);
+  const ModelPtr euler = reference_model(path, mjINT_EULER, mech.timestep);
   {
     const DataPtr data(mj_makeData(euler.get()));
     for (int k = 0; k < euler->nv; ++k) data->qvel[k] = 0.5;
     kinematics(euler.get(), data.get());
     set_velocities(euler.get(), data.get(), &mech);
   }
-  const int steps = static_cast<int>(std::lround(kSeconds / mech.timestep));
+  const double dt = mech.timestep;
+  const int steps = static_cast<int>(std::lround(kSeconds / dt));
   Simulation sim(std::move(mech), StepOptions{});
-  for (int s = 0; s < steps; ++s) sim.step();
-  const std::vector<Vector3d> exact = mujoco_run(reference.get(), kSeconds);
-  const std::vector<Vector3d> theirs = mujoco_run(euler.get(), kSeconds);
+  std::vector<double> u(euler->nu, 0.0);
+  for (int s = 0; s < steps; ++s) {
+    for (int i = 0; i < euler->nu; ++i) u[i] = controlled ? sine_control(euler.get(), i, s * dt) : 0;
+    sim.set_controls(u);
+    sim.step();
+  }
+  const std::vector<Vector3d> exact = mujoco_run(reference.get(), kSeconds, controlled);
+  const std::vector<Vector3d> theirs = mujoco_run(euler.get(), kSeconds, controlled);
   Fidelity f;
   for (size_t b = 0; b < exact.size(); ++b) {
     f.ours = std::max(f.ours, (sim.mechanism().bodies[b].position - exact[b]).norm());
@@ -733,9 +808,12 @@ Fidelity fidelity(const std::string& path) {
 TEST(Mjcf, GymnasiumModelsMoveAsMuJoCoMovesThem) {
   for (const char* name : {"inverted_pendulum", "inverted_double_pendulum", "reacher", "swimmer", "hopper",
                            "walker2d", "walker2d_v5", "half_cheetah"}) {
-    const Fidelity f = fidelity(kGymnasium + "/" + name + ".xml");
-    std::printf("%s: 1 s, against MuJoCo's RK4 at 1e-4 s: ours %.3g m, MuJoCo's Euler %.3g m\n", name, f.ours, f.euler);
-    EXPECT_LE(f.ours, std::max(2 * f.euler, 1e-3)) << name;
+    for (const bool controlled : {false, true}) {
+      const Fidelity f = fidelity(kGymnasium + "/" + name + ".xml", controlled);
+      std::printf("%s, %s: 1 s, against MuJoCo's RK4 at 1e-4 s: ours %.3g m, MuJoCo's Euler %.3g m\n", name,
+                  controlled ? "sine controls" : "passive", f.ours, f.euler);
+      EXPECT_LE(f.ours, std::max(2 * f.euler, 1e-3)) << name << (controlled ? ", sine controls" : ", passive");
+    }
   }
 }
 
@@ -754,7 +832,8 @@ TEST(Mjcf, FlagsAreHonoured) {
       "<actuator><motor joint=\"rail\"/></actuator>";
   struct Counts {
     Vector3d gravity;
-    int limits = 0, equalities = 0, touching_shapes = 0;
+    int limits = 0, equalities = 0, touching_shapes = 0, damped_dofs = 0;
+    bool actuation = true;
     MjcfDropped dropped;
   };
   auto load = [&](const std::string& flag) {
@@ -763,6 +842,8 @@ TEST(Mjcf, FlagsAreHonoured) {
     Counts c;
     const Mechanism m = load_mjcf(path, &c.dropped);
     c.gravity = m.gravity;
+    c.actuation = m.actuation;
+    for (const DofDynamics& d : m.dofs) c.damped_dofs += d.damping > 0 ? 1 : 0;
     for (const Constraint& k : m.constraints) {
       c.limits += k.type == ConstraintType::positional_limit || k.type == ConstraintType::angular_limit ? 1 : 0;
       c.equalities += k.type == ConstraintType::ball ? 1 : 0;
@@ -776,8 +857,9 @@ TEST(Mjcf, FlagsAreHonoured) {
   EXPECT_EQ(all.limits, 2);
   EXPECT_EQ(all.equalities, 1);
   EXPECT_EQ(all.touching_shapes, 4);
-  EXPECT_EQ(all.dropped.actuators, 1);
-  EXPECT_EQ(all.dropped.joint_dynamics, 1);
+  EXPECT_TRUE(all.dropped.unmodelled.empty());
+  EXPECT_TRUE(all.actuation);
+  EXPECT_EQ(all.damped_dofs, 1);
   const Counts gravity = load("gravity=\"disable\"");
   EXPECT_EQ(gravity.gravity, Vector3d::Zero());
   EXPECT_EQ(gravity.limits, 2);
@@ -793,8 +875,8 @@ TEST(Mjcf, FlagsAreHonoured) {
   EXPECT_EQ(equality.limits, 2);
   const Counts constraint = load("constraint=\"disable\"");
   EXPECT_EQ(constraint.limits + constraint.equalities + constraint.touching_shapes, 0);
-  EXPECT_EQ(load("actuation=\"disable\"").dropped.actuators, 0);
-  EXPECT_EQ(load("passive=\"disable\"").dropped.joint_dynamics, 0);
+  EXPECT_FALSE(load("actuation=\"disable\"").actuation);
+  EXPECT_EQ(load("passive=\"disable\"").damped_dofs, 0);
 
   // stepped: with contacts disabled, the ball and the cart pass through the floor
   const std::string path = temp_file("flags.xml", "<mujoco><option><flag contact=\"disable\"/></option>" + body +
@@ -803,6 +885,9 @@ TEST(Mjcf, FlagsAreHonoured) {
   for (int s = 0; s < 100; ++s) EXPECT_EQ(sim.step().contacts, 0);
 }
 
+// Constraint::collide as MuJoCo's body-pair filter: a body collides with the world it is
+// hinged to, not with a moving parent unless filterparent is disabled; bodies welded together
+// (no joint) never; an equality between unrelated bodies does not keep them apart.
 TEST(Mjcf, CollideFollowsMuJoCosFilter) {
   const std::string bodies =
       "<worldbody><body name=\"a\"><joint axis=\"1 0 0\"/><geom size=\".1\"/>"
