@@ -14,7 +14,7 @@ cd "$(dirname "$0")"
 cmd=${1:-test}
 shift || true
 
-packages=(cmake g++ make libsuitesparse-dev libmetis-dev libeigen3-dev libgtest-dev
+packages=(cmake g++ make ninja-build libsuitesparse-dev libmetis-dev libeigen3-dev libgtest-dev
           libbenchmark-dev nlohmann-json3-dev libcli11-dev pkg-config
           libmujoco-dev libqhull-dev libmujoco-samples libode-dev libbullet-dev libccd-dev
           pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib
@@ -23,6 +23,8 @@ packages=(cmake g++ make libsuitesparse-dev libmetis-dev libeigen3-dev libgtest-
 # examples/compare_orderings.py, which draws with matplotlib; python3-markdown: the report's
 # index.html, tested from the install prefix; python3-pandas, python3-distributed: ldlpgs.study's
 # tables and its Dask clusters)
+# (ninja-build: the generator of a new build directory, below; make for the examples tests' consumer
+# builds, tests/examples_test.cmake)
 # (libqhull-dev: Debian's mujocoConfig.cmake names /usr/include/libqhull_r/ and fails without it)
 # (libopenblas0-serial: an optimized BLAS/LAPACK, one thread, registered as the libblas.so.3 and
 # liblapack.so.3 alternative above the reference libblas3 that libsuitesparse-dev pulls in, so
@@ -45,6 +47,14 @@ install_missing() {
   fi
 }
 
+# A new build directory is generated for Ninja (CMake keeps an existing one's generator): Ninja
+# compiles a target's objects while the libraries it links are still compiling, where Make waits
+# for each dependency to be built and leaves a core idle behind the long unity sources and
+# kernels (DEVELOPERS.md, "Where CI's time goes"). CMAKE_GENERATOR set by the caller wins.
+configure() {
+  CMAKE_GENERATOR=${CMAKE_GENERATOR:-Ninja} cmake "$@"
+}
+
 build() {
   install_missing "${packages[@]}"
   local dir=${BUILD_DIR:-build}
@@ -53,7 +63,7 @@ build() {
   # their reports, and no benchmarks, since timings under ASan mean nothing.
   local sanitize=OFF bench=ON type=Release
   if [ "${SANITIZE:-0}" = 1 ]; then sanitize=ON; bench=OFF; type=RelWithDebInfo; fi
-  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=$type -DLDLPGS_SANITIZE=$sanitize -DLDLPGS_BUILD_BENCH=$bench -DLDLPGS_REQUIRE_PEERS=ON
+  configure -S . -B "$dir" -DCMAKE_BUILD_TYPE=$type -DLDLPGS_SANITIZE=$sanitize -DLDLPGS_BUILD_BENCH=$bench -DLDLPGS_REQUIRE_PEERS=ON
   cmake --build "$dir" -j "${JOBS:-$(nproc)}"
 }
 
@@ -74,9 +84,9 @@ fuzz_one() {
 
 fuzz() {
   # Only what the libraries need: the fuzz build has no program, tests, peers, MuJoCo or Python.
-  install_missing cmake make clang libclang-rt-14-dev libsuitesparse-dev libmetis-dev libeigen3-dev nlohmann-json3-dev pkg-config libode-dev libccd-dev
+  install_missing cmake ninja-build clang libclang-rt-14-dev libsuitesparse-dev libmetis-dev libeigen3-dev nlohmann-json3-dev pkg-config libode-dev libccd-dev
   local dir=${BUILD_DIR:-build-fuzz} seconds=${1:-60} failed=0
-  CC=clang CXX=clang++ cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLDLPGS_BUILD_FUZZ=ON \
+  CC=clang CXX=clang++ configure -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLDLPGS_BUILD_FUZZ=ON \
     -DLDLPGS_BUILD_CLI=OFF -DLDLPGS_BUILD_TESTS=OFF -DLDLPGS_BUILD_BENCH=OFF -DLDLPGS_BUILD_PEERS=OFF \
     -DLDLPGS_BUILD_PYTHON=OFF -DLDLPGS_WITH_MUJOCO=OFF -DLDLPGS_INSTALL=OFF
   cmake --build "$dir" -j "${JOBS:-$(nproc)}"
