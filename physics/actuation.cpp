@@ -69,10 +69,11 @@ void check_controls(std::span<const Actuator> actuators, std::span<const double>
   }
 }
 
-void joint_dynamics(const Mechanism& m, std::span<const double> controls, double dt, std::span<DofState> states,
-                    std::span<double> load, std::span<DofRow> rows) {
+void joint_dynamics(const Mechanism& m, std::span<const double> controls, double dt,
+                    std::span<const double> last_rates, std::span<DofState> states, std::span<double> load,
+                    std::span<DofRow> rows) {
   assert(states.size() == m.dofs.size() && rows.size() == m.constraints.size() &&
-         controls.size() == m.actuators.size());
+         controls.size() == m.actuators.size() && (last_rates.empty() || last_rates.size() == m.dofs.size()));
   for (size_t d = 0; d < m.dofs.size(); ++d) {
     const DofDynamics& dof = m.dofs[d];
     DofState& s = states[d] = dof_state(dof, m.bodies);
@@ -80,7 +81,8 @@ void joint_dynamics(const Mechanism& m, std::span<const double> controls, double
     if (dof.drive >= 0) {
       rows[dof.drive] = DofRow{0, 0, -kUnbounded, kUnbounded};
       const double inertial = dof.armature + dt * dof.damping;
-      if (inertial > 0) add_to_drive(&rows[dof.drive], inertial, dof.armature * s.rate / inertial);
+      const bool last = !last_rates.empty() && std::isfinite(last_rates[d]);
+      if (inertial > 0) add_to_drive(&rows[dof.drive], inertial, dof.armature * (last ? last_rates[d] : s.rate) / inertial);
     }
     if (dof.friction >= 0) rows[dof.friction] = DofRow{0, 0, -dof.frictionloss * dt, dof.frictionloss * dt};
   }

@@ -91,8 +91,15 @@ void check_controls(std::span<const Actuator> actuators, std::span<const double>
 // (springs, actuators without their velocity term) added to `load` (6 per body: force then
 // torque, world), and each dof_drive and dof_motor row's target, compliance and bounds into `rows`
 // (indexed by constraint). `states` (size dofs) is scratch.
+// The armature's q_dot0 is `last_rates` (size dofs, or empty; NaN: none yet): each dof's rate as
+// the last step's solve left it, measured along that step's rows. The bodies' velocities carried
+// into this pose measure more: the frame of a slide on a swinging arm has turned under them,
+// which is the centrifugal change of q_dot, and a rotor's inertia must resist that change too
+// (measured from the pose's own rates, a slide with armature on the humanoid-like arm of
+// mjcf_test swung 0.35 m off MuJoCo in a second, at any timestep).
 struct Mechanism;
 void joint_dynamics(const Mechanism& mechanism, std::span<const double> controls, double dt,
-                    std::span<DofState> states, std::span<double> load, std::span<DofRow> rows);
+                    std::span<const double> last_rates, std::span<DofState> states, std::span<double> load,
+                    std::span<DofRow> rows);
 
 }  // namespace ldlpgs

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <climits>
+#include <limits>
 #include <cmath>
 #include <cstdio>
 #include <new>
@@ -274,7 +275,7 @@ System build_system(const Mechanism& m, const StepOptions& options) {
   std::vector<double> load(6 * m.bodies.size(), 0.0), controls(m.actuators.size(), 0.0);
   std::vector<DofState> states(m.dofs.size());
   std::vector<DofRow> rows(m.constraints.size());
-  joint_dynamics(m, controls, m.timestep, states, load, rows);
+  joint_dynamics(m, controls, m.timestep, {}, states, load, rows);
   if (m.fluid.active()) add_fluid_loads(m, load);
   write_velocity_system(m, options, column, load, {}, {}, v0, &s);
   write_dof_rows(m, rows, &s);
@@ -301,7 +302,8 @@ Simulation::Simulation(Mechanism mechanism, const StepOptions& options)
       carrying_(mechanism_.bodies.size(), 0),
       controls_(mechanism_.actuators.size(), 0.0),
       dof_states_(mechanism_.dofs.size()),
-      dof_rows_(mechanism_.constraints.size()) {
+      dof_rows_(mechanism_.constraints.size()),
+      dof_rates_(mechanism_.dofs.size(), std::numeric_limits<double>::quiet_NaN()) {
   for (const Constraint& c : mechanism_.constraints)
     if (is_equality(c.type)) jointed_[c.body_a] = jointed_[c.body_b] = 1;
   if (has_shapes(mechanism_)) {
@@ -730,7 +732,8 @@ StepReport Simulation::step() {
     report.contacts = static_cast<int>(contacts_.size());
     report.contact_us = us(start, Clock::now());
   }
-  if (!m.dofs.empty() || !m.actuators.empty()) joint_dynamics(m, controls_, dt, dof_states_, load_, dof_rows_);
+  if (!m.dofs.empty() || !m.actuators.empty())
+    joint_dynamics(m, controls_, dt, dof_rates_, dof_states_, load_, dof_rows_);
   if (m.fluid.active()) add_fluid_loads(m, load_);
   velocity_system();
   const auto solve_start = Clock::now();
@@ -739,6 +742,7 @@ StepReport Simulation::step() {
   const auto solve_end = Clock::now();
   report.solve_us = us(solve_start, solve_end);
   keep_contact_impulses();
+  keep_dof_rates();
   if (options_.diagnostics) report.velocity_residual = velocity_residual(system_, lambda_, dv_);
   const bool gyroscopic = implicit_gyroscopic(m, options_);
   int c = 0;
@@ -813,6 +817,7 @@ void require_unit(const Eigen::Quaterniond& q, const char* what, int body) {
 }  // namespace
 
 void Simulation::set_position(int body, const Eigen::Vector3d& position) {
+  forget_dof_rates();
   evaluated_valid_ = false;  // (even if refused below: nothing is lost but one evaluation)
   RigidBody& b = writable(body, "set_position", false);
   require_within(position, MechanismRanges::coordinate_max, "set_position", body, "position", "m");
@@ -820,6 +825,7 @@ void Simulation::set_position(int body, const Eigen::Vector3d& position) {
 }
 
 void Simulation::set_orientation(int body, const Eigen::Quaterniond& orientation) {
+  forget_dof_rates();
   evaluated_valid_ = false;  // (even if refused below: nothing is lost but one evaluation)
   RigidBody& b = writable(body, "set_orientation", false);
   require_unit(orientation, "set_orientation", body);
@@ -827,12 +833,14 @@ void Simulation::set_orientation(int body, const Eigen::Quaterniond& orientation
 }
 
 void Simulation::set_linear_velocity(int body, const Eigen::Vector3d& velocity) {
+  forget_dof_rates();
   RigidBody& b = writable(body, "set_linear_velocity", true);
   require_within(velocity, MechanismRanges::velocity_max, "set_linear_velocity", body, "velocity", "m/s");
   b.linear_velocity = velocity;
 }
 
 void Simulation::set_angular_velocity(int body, const Eigen::Vector3d& velocity) {
+  forget_dof_rates();
   RigidBody& b = writable(body, "set_angular_velocity", true);
   require_within(velocity, MechanismRanges::velocity_max, "set_angular_velocity", body, "velocity", "rad/s");
   b.angular_velocity = velocity;
@@ -874,6 +882,7 @@ void Simulation::get_velocities(std::span<double> out) const {
 
 // The array setters check everything before writing anything: a refused call changes nothing.
 void Simulation::set_positions(std::span<const double> in) {
+  forget_dof_rates();
   evaluated_valid_ = false;  // (even if refused below: nothing is lost but one evaluation)
   require_size(in.size(), 3, mechanism_.bodies.size(), "set_positions");
   for (size_t b = 0; b < mechanism_.bodies.size(); ++b)
@@ -884,6 +893,7 @@ void Simulation::set_positions(std::span<const double> in) {
 }
 
 void Simulation::set_orientations(std::span<const double> in) {
+  forget_dof_rates();
   evaluated_valid_ = false;  // (even if refused below: nothing is lost but one evaluation)
   require_size(in.size(), 4, mechanism_.bodies.size(), "set_orientations");
   const auto at = [&](size_t b) { return Eigen::Quaterniond(in[4 * b], in[4 * b + 1], in[4 * b + 2], in[4 * b + 3]); };
@@ -892,6 +902,7 @@ void Simulation::set_orientations(std::span<const double> in) {
 }
 
 void Simulation::set_velocities(std::span<const double> in) {
+  forget_dof_rates();
   require_size(in.size(), 6, mechanism_.bodies.size(), "set_velocities");
   for (size_t b = 0; b < mechanism_.bodies.size(); ++b) {
     const Eigen::Vector3d v(in[6 * b], in[6 * b + 1], in[6 * b + 2]), w(in[6 * b + 3], in[6 * b + 4], in[6 * b + 5]);
@@ -933,6 +944,25 @@ void Simulation::set_gravity(const Eigen::Vector3d& gravity) {
 void Simulation::set_timestep(double timestep) {
   check_range("set_timestep", "", "timestep", timestep, MechanismRanges::timestep_min, MechanismRanges::timestep_max, "s");
   mechanism_.timestep = timestep;
+}
+
+// A state written through the API: the armature measures from the pose's own rates again.
+void Simulation::forget_dof_rates() { std::fill(dof_rates_.begin(), dof_rates_.end(), std::numeric_limits<double>::quiet_NaN()); }
+
+// Each driven dof's rate after the solve, J_drive V1 along its row of this step (joint_dynamics:
+// the armature's q_dot0 of the next).
+void Simulation::keep_dof_rates() {
+  for (size_t d = 0; d < mechanism_.dofs.size(); ++d) {
+    const int k = mechanism_.dofs[d].drive;
+    if (k < 0) continue;
+    const RowBlock& b = system_.blocks[k];
+    double rate = 0;
+    for (int x = 0; x < 6; ++x) {
+      if (b.column_a >= 0) rate += system_.cell_a(k)[x] * (v0_[6 * b.column_a + x] + dv_[6 * b.column_a + x]);
+      if (b.column_b >= 0) rate += system_.cell_b(k)[x] * (v0_[6 * b.column_b + x] + dv_[6 * b.column_b + x]);
+    }
+    dof_rates_[d] = rate;
+  }
 }
 
 void Simulation::set_controls(std::span<const double> controls) {

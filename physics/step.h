@@ -206,6 +206,8 @@ class Simulation {
   void order_factored_first();              // ... its contacts reordered
   double contact_rows(bool velocity, bool with_jacobian);  // their rows at the current pose (velocity or position level)
   void keep_contact_impulses();             // lambda into the contacts, for the next step
+  void keep_dof_rates();                    // the driven dofs' rates after the solve (actuation.h)
+  void forget_dof_rates();                  // ... none: the state was written
   double penetration_max() const;
 
   Mechanism mechanism_;
@@ -240,6 +242,7 @@ class Simulation {
   std::vector<double> controls_;    // (size actuators)
   std::vector<DofState> dof_states_;  // joint_dynamics' scratch (size dofs)
   std::vector<DofRow> dof_rows_;    // the dof_drive and dof_motor rows' targets (size constraints)
+  std::vector<double> dof_rates_;   // each dof's rate after the last solve, NaN before (size dofs)
 };
 
 }  // namespace ldlpgs

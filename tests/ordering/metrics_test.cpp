@@ -67,7 +67,7 @@ TEST(ScalarCounts, EqualDenseSymbolicElimination) {
 
 TEST(ScalarCounts, FlopsAreTheLdlCount) {
   // CHOLMOD's fl = sum of squared column counts = sum c_j (c_j + 2) + n, c_j strictly below.
-  const SymmetricCsc a = read_matrix_market(std::string(LDLPGS_MATRICES) + "/bcsstk01.mtx");
+  const SymmetricCsc a = read_matrix_market(std::string(LDLPGS_MATRICES "/bcsstk01.mtx"));
   const Graph g = graph_of(a);
   std::vector<int> perm(a.n);
   std::iota(perm.begin(), perm.end(), 0);

@@ -71,7 +71,7 @@ TEST(QuotientGraph, CompactingTheWorkspaceLeavesTheOrderAsItWas) {
   std::vector<BlockPattern> patterns;
   for (uint32_t seed = 1; seed <= 10; ++seed) patterns.push_back(random_pattern(20 + 4 * seed, 0.1, seed));
   for (const char* family : {"grid", "tree", "star", "heavy"}) patterns.push_back(constraint_graph(make_family(family, 300, 2)));
-  const SymmetricCsc a = read_matrix_market(std::string(LDLPGS_MATRICES) + "/bcsstk01.mtx");
+  const SymmetricCsc a = read_matrix_market(std::string(LDLPGS_MATRICES "/bcsstk01.mtx"));
   patterns.push_back(BlockPattern::from_scalar(a, partition_auto(a)));
   for (const BlockPattern& p : patterns)
     for (QuotientOptions o : kForms) {

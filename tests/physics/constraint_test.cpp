@@ -36,7 +36,8 @@ constexpr ConstraintType kAllTypes[] = {ConstraintType::ball,          Constrain
                                         ConstraintType::weld,          ConstraintType::rod,
                                         ConstraintType::rope,          ConstraintType::angular_limit,
                                         ConstraintType::positional_limit, ConstraintType::joint_set,
-                                        ConstraintType::coordinate_limit};
+                                        ConstraintType::coordinate_limit, ConstraintType::dof_drive,
+                                        ConstraintType::dof_motor};
 
 bool is_limit(ConstraintType type) {
   return type == ConstraintType::angular_limit || type == ConstraintType::positional_limit ||
@@ -106,6 +107,11 @@ Constraint random_constraint(ConstraintType type, std::mt19937& rng, const Rigid
       if (joints.back().type == ChainJointType::ball) joints.push_back({ChainJointType::slide, Vector3d::UnitZ(), b.position});
       const Constraint set = make_joint_set(0, a, 1, b, joints);
       return make_coordinate_limit(set, static_cast<int>(joints.size()) - 1, -1, 1);
+    }
+    case ConstraintType::dof_drive:
+    case ConstraintType::dof_motor: {  // on a random dof of a random set
+      const Constraint set = make_joint_set(0, a, 1, b, random_joints(rng, b));
+      return make_dof_row(type, set, std::uniform_int_distribution<int>(0, set.chain->dofs - 1)(rng));
     }
   }
   return {};
@@ -279,6 +285,71 @@ INSTANTIATE_TEST_SUITE_P(
                     JacobianCase{ConstraintType::coordinate_limit, Side::max}),
     [](const ::testing::TestParamInfo<JacobianCase>& info) { return case_name(info.param); });
 
+// Dof i's rate (MuJoCo's qvel) when the coordinates move at dq: dq_i for a hinge or a slide; for
+// a ball, its child-frame angular velocity J_r(theta) dtheta (SO(3)'s right Jacobian).
+double dof_rate(const JointChain& chain, const std::vector<double>& q, const std::vector<double>& dq, int dof) {
+  int first = 0;
+  for (const ChainJoint& j : chain.joints) {
+    const int n = j.type == ChainJointType::ball ? 3 : 1;
+    if (dof >= first + n) {
+      first += n;
+      continue;
+    }
+    if (n == 1) return dq[dof];
+    const Vector3d theta(q[first], q[first + 1], q[first + 2]), rate(dq[first], dq[first + 1], dq[first + 2]);
+    const double angle = theta.norm();
+    Eigen::Matrix3d k;
+    k << 0, -theta.z(), theta.y(), theta.z(), 0, -theta.x(), -theta.y(), theta.x(), 0;
+    const Eigen::Matrix3d right = Eigen::Matrix3d::Identity() - (1 - std::cos(angle)) / (angle * angle) * k +
+                                  (angle - std::sin(angle)) / (angle * angle * angle) * k * k;
+    return (right * rate)[dof - first];
+  }
+  return 0;
+}
+
+// A dof_drive's or dof_motor's row is the rate of its dof's coordinate on every motion the joints
+// allow: b moved along the chain, q* + t dq, its velocity from the poses at t = +-h (central
+// differences, h = 1e-5), J V = dq_dof to 1e-8. (Off the joints' motions the row is S^+'s least
+// squares rate, which the joints' own rows make moot.) c is always 0.
+TEST(DofRows, RateIsTheDofsCoordinateRateOnTheJointsMotions) {
+  std::mt19937 rng(4321);
+  std::uniform_real_distribution<double> u(-0.6, 0.6);
+  constexpr double h = 1e-5;
+  for (int pose = 0; pose < 30; ++pose) {
+    RigidBody a = random_body(rng, pose >= 25), b = random_body(rng);
+    const ConstraintType type = pose % 2 ? ConstraintType::dof_motor : ConstraintType::dof_drive;
+    Constraint c = random_constraint(type, rng, a, b);
+    const JointChain& chain = *c.chain;
+    std::vector<double> q(chain.dofs), dq(chain.dofs);
+    for (int k = 0; k < chain.dofs; ++k) {
+      q[k] = u(rng);
+      dq[k] = u(rng);
+    }
+    const Eigen::Isometry3d pose_a = Eigen::Translation3d(a.position) * a.orientation;
+    const auto pose_b = [&](double t) {
+      std::vector<double> qt(q);
+      for (int k = 0; k < chain.dofs; ++k) qt[k] += t * dq[k];
+      return Eigen::Isometry3d(pose_a * chain_pose(chain, qt));
+    };
+    for (int s = 1; s <= 10; ++s) {  // the fit walked there, as stepping moves it
+      const Eigen::Isometry3d p = Eigen::Translation3d(a.position) * a.orientation *
+                                  chain_pose(chain, [&] { std::vector<double> qs(q); for (double& x : qs) x *= s / 10.0; return qs; }());
+      b.position = p.translation();
+      b.orientation = Quaterniond(p.linear());
+      evaluate(c, a, b);
+    }
+    const Eigen::Isometry3d plus = pose_b(h), minus = pose_b(-h);
+    a.linear_velocity = a.angular_velocity = Vector3d::Zero();
+    b.linear_velocity = (plus.translation() - minus.translation()) / (2 * h);
+    const AngleAxisd turn(Eigen::Matrix3d(plus.linear() * minus.linear().transpose()));
+    b.angular_velocity = turn.angle() * turn.axis() / (2 * h);
+    const ConstraintRows rows = evaluate(c, a, b);
+    ASSERT_EQ(rows.rows, 1);
+    EXPECT_EQ(rows.c[0], 0.0);
+    EXPECT_NEAR(row_times_velocity(rows, 0, a, b), dof_rate(chain, q, dq, c.joint), 1e-8) << "pose " << pose << ", dof " << c.joint;
+  }
+}
+
 // ---- per-type claims over all types ----
 
 class EveryType : public ::testing::TestWithParam<ConstraintType> {};
@@ -360,7 +431,9 @@ TEST_P(EveryType, RowKinds) {
     case ConstraintType::positional_limit: expected = {false}; break;
     case ConstraintType::angular_limit: expected = {true}; break;
     case ConstraintType::joint_set:  // angular rows first (joint_set.h), counted below
-    case ConstraintType::coordinate_limit: break;
+    case ConstraintType::coordinate_limit:
+    case ConstraintType::dof_drive:
+    case ConstraintType::dof_motor: break;
   }
   std::mt19937 rng(5);
   const RigidBody a = random_body(rng), b = random_body(rng);
@@ -370,6 +443,7 @@ TEST_P(EveryType, RowKinds) {
     expected.resize(c.chain->rows(), false);
   }
   if (type == ConstraintType::coordinate_limit) expected = {c.chain->joints[c.joint].type != ChainJointType::slide};
+  if (type == ConstraintType::dof_drive || type == ConstraintType::dof_motor) expected = {dof_is_angular(*c.chain, c.joint)};
   const ConstraintRows rows = evaluate(c, a, b);
   ASSERT_EQ(rows.rows, static_cast<int>(expected.size()));
   for (int r = 0; r < rows.rows; ++r) EXPECT_EQ(rows.angular[r], expected[r]) << "row " << r;
@@ -409,17 +483,18 @@ TEST(Constraint, RowCountsAndKindsFollowTheTable) {
   }
   for (ConstraintType t : {ConstraintType::ball, ConstraintType::hinge, ConstraintType::prismatic,
                            ConstraintType::cylindrical, ConstraintType::weld, ConstraintType::rod,
-                           ConstraintType::joint_set})
+                           ConstraintType::joint_set, ConstraintType::dof_drive})
     EXPECT_TRUE(is_equality(t)) << to_string(t);
   for (ConstraintType t : {ConstraintType::rope, ConstraintType::angular_limit, ConstraintType::positional_limit,
-                           ConstraintType::coordinate_limit})
+                           ConstraintType::coordinate_limit, ConstraintType::dof_motor})
     EXPECT_FALSE(is_equality(t)) << to_string(t);
 }
 
 TEST(Constraint, NamesAsScenesSpellThem) {
   const char* names[] = {"ball", "hinge",         "prismatic",        "cylindrical", "weld",
                          "rod",  "rope",          "angular_limit",    "positional_limit",
-                         "joint_set", "coordinate_limit"};
+                         "joint_set", "coordinate_limit", "dof_drive", "dof_motor"};
+  static_assert(std::size(names) == std::size(kAllTypes));
   for (size_t i = 0; i < std::size(kAllTypes); ++i) EXPECT_STREQ(to_string(kAllTypes[i]), names[i]);
 }
 
