@@ -14,6 +14,7 @@
 
 #include "apps/commands.h"
 #include "apps/controls.h"
+#include "apps/models.h"
 #include "apps/options.h"
 #include "peers/median.h"
 #include "peers/peer.h"
@@ -55,23 +56,15 @@ std::vector<std::string> model_files(const std::vector<std::string>& paths) {
   return files;
 }
 
-struct ModelRow {
-  std::string path, refused, dropped;
-  int bodies = 0, constraints = 0, rows = 0, steps = 0;
-  double timestep_s = 0, step_us = 0, mujoco_step_us = 0;
-  ConstraintError error;  // largest over the steps
-  double penetration_max_m = 0;
-  std::string failure, mujoco_skipped;
-};
+}  // namespace
 
-// One model: loaded, stepped by us, then by MuJoCo.
-ModelRow check_model(const std::string& path, const ModelsArgs& a, HybridSchedule schedule) {
+ModelRow check_model(const std::string& path, int steps, HybridSchedule schedule, bool allow_dropped) {
   ModelRow row;
   row.path = path;
   Mechanism m;
   MjcfDropped dropped;
   try {
-    m = load_mjcf(path, &dropped, a.allow_dropped);
+    m = load_mjcf(path, &dropped, allow_dropped);
   } catch (const InputError& e) {
     row.refused = e.what();
     return row;
@@ -89,7 +82,7 @@ ModelRow check_model(const std::string& path, const ModelsArgs& a, HybridSchedul
   const double size = mechanism_size(m);
   Simulation sim(m, options);
   std::vector<double> step_us;
-  for (int s = 1; s <= a.steps; ++s) {
+  for (int s = 1; s <= steps; ++s) {
     const StepReport r = sim.step();
     step_us.push_back(r.step_us);
     row.steps = s;
@@ -106,7 +99,7 @@ ModelRow check_model(const std::string& path, const ModelsArgs& a, HybridSchedul
   if (!mujoco.available) {
     row.mujoco_skipped = mujoco.library + " is not installed";
   } else {
-    const peers::PeerResult r = mujoco.run(m, a.steps * m.timestep);
+    const peers::PeerResult r = mujoco.run(m, steps * m.timestep);
     if (r.ran()) row.mujoco_step_us = r.step_us;
     else row.mujoco_skipped = r.skipped;
   }
@@ -134,6 +127,8 @@ nlohmann::json row_json(const ModelRow& r) {
   j["failure"] = r.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.failure);
   return j;
 }
+
+namespace {
 
 void print_table(const std::vector<ModelRow>& rows) {
   std::printf("%-28s %9s %9s %10s %10s %10s  %s\n", "model", "step_us", "mujoco_us", "joints_m", "joints_rad",
@@ -168,7 +163,7 @@ Command add_models_command(CLI::App& app) {
     std::vector<ModelRow> rows;
     for (const std::string& path : model_files(a->paths)) {
       if (!a->json) progress("models", path);
-      rows.push_back(check_model(path, *a, schedule));
+      rows.push_back(check_model(path, a->steps, schedule, a->allow_dropped));
     }
     if (a->json) {
       nlohmann::json models = nlohmann::json::array();

@@ -1,12 +1,14 @@
 // ldlpgs report: the main job. On the generated mechanism families, the built-in scenes and the
-// test matrices, in six stages:
+// test matrices, in seven stages:
 //   1. the orderings comparison (papers/orderings.md),
 //   2. the block LDL^T of every problem verified against CHOLMOD's (factor/verify.h),
 //   3. the talk's table and spy plots (papers/scripts/talk_figures.py, papers/talk-figures.md),
 //   4. speed against error of the solvers on the hard cases, and where each breaks
 //      (apps/sweep.h, papers/speed-vs-error.md),
 //   5. where each solver breaks, with the figures (matplotlib),
-//   6. two runs to watch in a browser (view/html.h), and index.html (python3-markdown).
+//   6. two runs to watch in a browser (view/html.h),
+//   7. Gymnasium's MuJoCo models stepped beside MuJoCo (apps/models.h, papers/physics.md), and
+//      index.html (python3-markdown).
 // It writes a directory (report/ by default) holding index.md (opening with a key finding per
 // study), index.html, the figures, and data/: each big table as JSON and CSV records (one flat
 // object or line per row, for pandas); the orderings tables go to standard output as well, and a progress
@@ -26,10 +28,12 @@
 
 #include "apps/commands.h"
 #include "apps/compare.h"
+#include "apps/models.h"
 #include "apps/options.h"
 #include "apps/sweep.h"
 #include "apps/verification.h"
 #include "ldlpgs/sparse/error.h"
+#include "ldlpgs/physics/mjcf.h"
 #include "ldlpgs/physics/scenes.h"
 #include "ldlpgs/sparse/families.h"
 #include "ldlpgs/version.h"
@@ -40,7 +44,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr int kStages = 6;
+constexpr int kStages = 7;
+constexpr int kModelSteps = 1000;  // per model, of its own timestep
 constexpr double kViewSeconds = 2;  // simulated, per viewer page
 
 void stage_progress(int stage, const std::string& what) { std::fprintf(stderr, "report [%d/%d] %s\n", stage, kStages, what.c_str()); }
@@ -61,19 +66,21 @@ std::string find_python() {
   return "";
 }
 
-// Where the report's scripts (papers/scripts/*.py) and default matrices are: installed beside the
-// program (PREFIX/share/ldlpgs/{scripts,matrices} for PREFIX/bin/ldlpgs), else in the source tree
-// it was built from (`source`, empty when installed).
+// Where the report's scripts (papers/scripts/*.py), default matrices and MJCF models are:
+// installed beside the program (PREFIX/share/ldlpgs/{scripts,matrices,mjcf/gymnasium} for
+// PREFIX/bin/ldlpgs), else in the source tree it was built from (`source`, empty when installed).
 struct ReportFiles {
-  std::string scripts, matrices, source;
+  std::string scripts, matrices, source, models;
 };
 const ReportFiles& report_files() {
   static const ReportFiles files = [] {
     std::error_code ec;
     const fs::path share = fs::read_symlink("/proc/self/exe", ec).parent_path().parent_path() / "share" / "ldlpgs";
     if (!ec && fs::exists(share / "scripts" / "talk_figures.py", ec))
-      return ReportFiles{(share / "scripts").string(), (share / "matrices").string(), ""};
-    return ReportFiles{LDLPGS_SOURCE_DIR "/papers/scripts", LDLPGS_SOURCE_DIR "/tests/data/matrices", LDLPGS_SOURCE_DIR};
+      return ReportFiles{(share / "scripts").string(), (share / "matrices").string(), "",
+                         (share / "mjcf" / "gymnasium").string()};
+    return ReportFiles{LDLPGS_SOURCE_DIR "/papers/scripts", LDLPGS_SOURCE_DIR "/tests/data/matrices", LDLPGS_SOURCE_DIR,
+                       LDLPGS_SOURCE_DIR "/tests/data/mjcf/gymnasium"};
   }();
   return files;
 }
@@ -299,6 +306,7 @@ class Report {
     speed_against_error();
     stability_stage();
     viewer_pages();
+    models_stage();
     return finish();
   }
 
@@ -510,7 +518,7 @@ class Report {
   // 6. Two runs as pages that play them (`ldlpgs view`), embedded in index.html: the tracked
   // vehicle driving its tracks, and a vehicle driving on the ground (contacts).
   void viewer_pages() {
-    stage_progress(6, "two runs to watch, and index.html");
+    stage_progress(6, "two runs to watch");
     std::fprintf(md_, "\n## 6. Watch it move\n\nTwo runs as pages that play them in a browser (three.js inlined: "
                  "they open offline); drag to orbit, the slider picks a time, the plot beside it is the joints' "
                  "separation and the contacts' penetration against time.\n");
@@ -526,6 +534,38 @@ class Report {
                    v.position_error_max_m, v.penetration_max_m, v.failure.empty() ? "" : "; it came apart at ",
                    v.failure.c_str(), page.c_str(), scene, page.c_str(), page.c_str());
     }
+  }
+
+  // 7. Gymnasium's MuJoCo models, each stepped by us and by MuJoCo (`ldlpgs models`), and index.html.
+  void models_stage() {
+    stage_progress(7, "Gymnasium's MuJoCo models beside MuJoCo, and index.html");
+    std::fprintf(md_, "\n## 7. The field's own models\n\n");
+    std::error_code ec;
+    if (!mjcf_supported() || !fs::is_directory(report_files().models, ec)) {
+      std::fprintf(md_, "Skipped: %s.\n", mjcf_supported() ? "the models are not installed" : "built without MuJoCo");
+      return;
+    }
+    std::vector<std::string> paths;
+    for (const auto& entry : fs::directory_iterator(report_files().models, ec))
+      if (is_mjcf_path(entry.path().string())) paths.push_back(entry.path().string());
+    std::sort(paths.begin(), paths.end());
+    nlohmann::json rows = nlohmann::json::array();
+    std::fprintf(md_, "The MuJoCo models of Gymnasium's environments (MIT), %d steps of each one's own timestep at "
+                 "zero controls, by our ldl-pgs (talk schedule) and by MuJoCo stepping the same file. Made by "
+                 "`build/bin/ldlpgs models tests/data/mjcf/gymnasium --steps %d`; motion against MuJoCo's RK4 in "
+                 "%s.\n\n| model | ours (us/step) | MuJoCo (us/step) | joints (m) | joints (rad) | deepest "
+                 "contact (m) | dropped, refused or failed |\n|---|---|---|---|---|---|---|\n",
+                 kModelSteps, kModelSteps, paper(out_dir_, "physics.md").c_str());
+    for (const std::string& path : paths) {
+      std::fprintf(stderr, "report: %s\n", fs::path(path).filename().c_str());
+      const ModelRow r = check_model(path, kModelSteps, HybridSchedule::talk, /*allow_dropped=*/false);
+      rows.push_back(row_json(r));
+      const std::string note = !r.refused.empty() ? "refused: " + r.refused : !r.failure.empty() ? "failed: " + r.failure : r.dropped;
+      if (!r.failure.empty()) ok_ = false;
+      std::fprintf(md_, "| %s | %.1f | %.1f | %.2g | %.2g | %.2g | %s |\n", fs::path(path).stem().c_str(), r.step_us,
+                   r.mujoco_step_us, r.error.position_max, r.error.angular_max, r.penetration_max_m, note.c_str());
+    }
+    write_table(data_, "models", rows);
   }
 
   // index.md (head, key findings, the stages' sections), index.html; the exit code.

@@ -24,11 +24,13 @@ install(FILES ${PROJECT_BINARY_DIR}/ldlpgsConfig.cmake ${PROJECT_BINARY_DIR}/ldl
 if(TARGET ldlpgs)
   install(TARGETS ldlpgs RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
   # What `ldlpgs report` runs and reads, found beside the installed program
-  # (apps/report_command.cpp, report_files): its scripts and the default test matrices.
+  # (apps/report_command.cpp, report_files): its scripts, the default test matrices and the MJCF
+  # models of its last stage (Gymnasium's, with their licence).
   install(FILES ${PROJECT_SOURCE_DIR}/papers/scripts/talk_figures.py ${PROJECT_SOURCE_DIR}/papers/scripts/plot_spy.py
                 ${PROJECT_SOURCE_DIR}/papers/scripts/run_ldlpgs.py ${PROJECT_SOURCE_DIR}/papers/scripts/debian_python.py
                 ${PROJECT_SOURCE_DIR}/papers/scripts/plot_speed_vs_error.py ${PROJECT_SOURCE_DIR}/papers/scripts/render_html.py
           DESTINATION ${CMAKE_INSTALL_DATADIR}/ldlpgs/scripts)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/tests/data/matrices/ DESTINATION ${CMAKE_INSTALL_DATADIR}/ldlpgs/matrices
           FILES_MATCHING PATTERN "*.mtx")
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/tests/data/mjcf/gymnasium/ DESTINATION ${CMAKE_INSTALL_DATADIR}/ldlpgs/mjcf/gymnasium)
 endif()

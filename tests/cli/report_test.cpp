@@ -27,9 +27,10 @@ TEST(LdlpgsReport, WritesTheReportDirectory) {
   const std::string index = ss.str();
   for (const char* section : {"## 1. Orderings", "## 2. The block LDL^T against CHOLMOD", "## 3. The talk's figures",
                               "## 4. Speed against error", "## 5. Where each solver breaks", "## 6. Watch it move",
+                              "## 7. The field's own models", "| humanoid |", "| walker2d |",
                               "bcsstk01.mtx", "chain-12", "| four-bar | ldl-pgs |"})
     EXPECT_NE(index.find(section), std::string::npos) << section;
-  EXPECT_NE(r.err.find("report [6/6]"), std::string::npos) << "no progress line: " << r.err;
+  EXPECT_NE(r.err.find("report [7/7]"), std::string::npos) << "no progress line: " << r.err;
   // The two viewer pages, embedded: each a page of the recorded run (its data block and three.js)
   // with frames, the one on the ground with its contacts (the browser test checks what a page draws).
   for (const char* scene : {"tracked-vehicle", "multi-wheeled-vehicle-on-ground"}) {
@@ -45,7 +46,7 @@ TEST(LdlpgsReport, WritesTheReportDirectory) {
   EXPECT_LT(index.find("## Key findings"), index.find("## 1. Orderings")) << "the findings open the report";
   for (const char* paper : {"papers/orderings.md", "papers/factor.md", "papers/speed-vs-error.md"})
     EXPECT_NE(index.find(paper), std::string::npos) << paper;
-  for (const char* table : {"orderings", "verification", "sweep", "stability"}) {
+  for (const char* table : {"orderings", "verification", "sweep", "stability", "models"}) {
     std::ifstream json(dir + "/data/" + table + ".json");
     const nlohmann::json rows = nlohmann::json::parse(json)["records"];
     EXPECT_FALSE(rows.empty()) << table;
