@@ -48,6 +48,10 @@ constexpr int kMaxConstraintRows = 6;
 // The rows of every type but joint_set, whose count its chain gives (num_rows(Constraint)).
 int num_rows(ConstraintType type);
 bool is_equality(ConstraintType type);
+// dof_drive and dof_motor: a joint dof's rate (no position error), not a joint's row.
+inline bool acts_on_a_dof(ConstraintType type) {
+  return type == ConstraintType::dof_drive || type == ConstraintType::dof_motor;
+}
 const char* to_string(ConstraintType type);
 // false if `name` is not a type name (as scene files spell it)
 bool constraint_type_from_string(std::string_view name, ConstraintType* type);

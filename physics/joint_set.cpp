@@ -139,6 +139,12 @@ TwistSvd twist_svd(const ChainTwists& s) {
   svd.setThreshold(kSingular);
   return svd;
 }
+// S^+ r; one twist (a hinge or a slide alone: most joints) without the SVD, S^T r / |S|^2, exact.
+ChainVector pseudo_inverse_times(const ChainTwists& s, const Twist& r) {
+  if (s.cols() == 1) return ChainVector::Constant(1, s.col(0).dot(r) / s.col(0).squaredNorm());
+  return twist_svd(s).solve(r);
+}
+
 // The fit stops once a step moves no coordinate by more than this (rad or m), or after
 // kMaxIterations; a step is cut to kMaxStep (the search starts at the last q*, so a long step
 // means a jump, where Gauss-Newton may overshoot).
@@ -287,7 +293,7 @@ ChainFit fit_chain(const JointChain& chain, const RigidBody& a, const RigidBody&
   for (int iteration = 0;; ++iteration) {
     fit.residual = residual(forward(chain, *q, &fit.twists), target);
     if (chain.dofs == 0 || iteration == kMaxIterations) break;
-    ChainVector dq = twist_svd(fit.twists).solve(fit.residual);
+    ChainVector dq = pseudo_inverse_times(fit.twists, fit.residual);
     const double step = dq.cwiseAbs().maxCoeff();
     if (!(step < 1e300)) break;  // not finite: keep the last pose's q
     if (step > kMaxStep) dq *= kMaxStep / step;
@@ -383,7 +389,8 @@ bool dof_is_angular(const JointChain& chain, int dof) {
 
 double chain_dof([[maybe_unused]] const JointChain& chain, const ChainFit& fit, const ChainCoordinates& q, int dof, Twist* covector) {
   assert(dof >= 0 && dof < chain.dofs);
-  *covector = dof_rate(twist_svd(fit.twists), dof);
+  const ChainTwists& twists = fit.twists;
+  *covector = twists.cols() == 1 ? (twists.col(0) / twists.col(0).squaredNorm()).eval() : dof_rate(twist_svd(twists), dof);
   return q[dof];
 }
 

@@ -207,7 +207,8 @@ void write_velocity_system(const Mechanism& m, const StepOptions& options, const
   };
   for (int k = 0; k < static_cast<int>(m.constraints.size()); ++k) {
     const Constraint& con = m.constraints[k];
-    if (known.empty()) write_rows(k, evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b]));
+    // (a dof row's evaluation is not kept by the projection, which skips it: acts_on_a_dof)
+    if (known.empty() || acts_on_a_dof(con.type)) write_rows(k, evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b]));
     else write_rows(k, known[k]);
   }
   std::fill(s->compliance.begin(), s->compliance.end(), options.compliance);
@@ -370,6 +371,11 @@ double Simulation::position_rhs(bool with_jacobian) {
   double worst = 0;
   for (int k = 0; k < static_cast<int>(m.constraints.size()); ++k) {
     const Constraint& con = m.constraints[k];
+    if (acts_on_a_dof(con.type) && !with_jacobian) {
+      // no position error (c = 0) and the step's own J: nothing to evaluate (nor kept in evaluated_)
+      system_.rhs[system_.blocks[k].position] = 0;
+      continue;
+    }
     // Constructed in place (the prvalue initializes the element: no 640-byte copy); the type is
     // trivially destructible, so the old value needs no destructor.
     static_assert(std::is_trivially_destructible_v<ConstraintRows>);
