@@ -371,8 +371,11 @@ double Simulation::position_rhs(bool with_jacobian) {
   double worst = 0;
   for (int k = 0; k < static_cast<int>(m.constraints.size()); ++k) {
     const Constraint& con = m.constraints[k];
-    if (acts_on_a_dof(con.type) && !with_jacobian) {
-      // no position error (c = 0) and the step's own J: nothing to evaluate (nor kept in evaluated_)
+    if (acts_on_a_dof(con.type)) {
+      // No position error (c = 0), and its J stays the step's even when the projection refactors:
+      // a soft row is the projection's metric there, not a constraint to meet. Nothing evaluated
+      // (nor kept in evaluated_): re-fitting the chains in every iteration of a contact step's
+      // projection was most of MuJoCo's humanoid's step (papers/physics.md, "MJCF models").
       system_.rhs[system_.blocks[k].position] = 0;
       continue;
     }
