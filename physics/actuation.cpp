@@ -69,11 +69,12 @@ void check_controls(std::span<const Actuator> actuators, std::span<const double>
   }
 }
 
-void joint_dynamics(const Mechanism& m, std::span<const double> controls, double dt,
-                    std::span<const double> last_rates, std::span<DofState> states, std::span<double> load,
-                    std::span<DofRow> rows) {
-  assert(states.size() == m.dofs.size() && rows.size() == m.constraints.size() &&
-         controls.size() == m.actuators.size() && (last_rates.empty() || last_rates.size() == m.dofs.size()));
+namespace {
+
+// Each dof's state, its spring's explicit force, and its drive row's armature and damping (the
+// armature's q_dot0 the last solve's rate where there is one) and friction row's bounds.
+void passive_terms(const Mechanism& m, double dt, std::span<const double> last_rates, std::span<DofState> states,
+                   std::span<DofRow> rows) {
   for (size_t d = 0; d < m.dofs.size(); ++d) {
     const DofDynamics& dof = m.dofs[d];
     DofState& s = states[d] = dof_state(dof, m.bodies);
@@ -86,6 +87,12 @@ void joint_dynamics(const Mechanism& m, std::span<const double> controls, double
     }
     if (dof.friction >= 0) rows[dof.friction] = DofRow{0, 0, -dof.frictionloss * dt, dof.frictionloss * dt};
   }
+}
+
+// Each actuator's force: its velocity term implicit (a motor row, or a term of the drive row),
+// the rest explicit onto its dof's force.
+void actuator_terms(const Mechanism& m, std::span<const double> controls, double dt, std::span<DofState> states,
+                    std::span<DofRow> rows) {
   for (size_t i = 0; i < m.actuators.size() && m.actuation; ++i) {
     const Actuator& a = m.actuators[i];
     if (a.dof < 0) continue;  // kept for the controls' order only
@@ -107,10 +114,15 @@ void joint_dynamics(const Mechanism& m, std::span<const double> controls, double
     if (a.force_limited) force = std::clamp(force, a.force_min, a.force_max);
     s.force += a.gear * force;
   }
-  // The explicit force goes into the dof's drive row where it has one (lambda = dt tau - (q_dot1 -
-  // target) / C: the target moves by dt tau C), else onto the bodies. The step is the same; but a
-  // rotor's force on a light link, V* = V0 + dt M^-1 z tau, would otherwise outrun every
-  // speculative limit before the armature row slows it (papers/physics.md, "MJCF models").
+}
+
+// The explicit force goes into the dof's drive row where it has one (lambda = dt tau - (q_dot1 -
+// target) / C: the target moves by dt tau C), else onto the bodies; then the drive rows are
+// resolved. The step is the same; but a rotor's force on a light link, V* = V0 + dt M^-1 z tau,
+// would otherwise outrun every speculative limit before the armature row slows it
+// (papers/physics.md, "MJCF models").
+void explicit_forces(const Mechanism& m, double dt, std::span<const DofState> states, std::span<double> load,
+                     std::span<DofRow> rows) {
   for (size_t d = 0; d < m.dofs.size(); ++d) {
     const DofDynamics& dof = m.dofs[d];
     if (dof.drive >= 0 && rows[dof.drive].compliance > 0) {
@@ -120,6 +132,18 @@ void joint_dynamics(const Mechanism& m, std::span<const double> controls, double
     }
     if (dof.drive >= 0) finish_drive(&rows[dof.drive]);
   }
+}
+
+}  // namespace
+
+void joint_dynamics(const Mechanism& m, std::span<const double> controls, double dt,
+                    std::span<const double> last_rates, std::span<DofState> states, std::span<double> load,
+                    std::span<DofRow> rows) {
+  assert(states.size() == m.dofs.size() && rows.size() == m.constraints.size() &&
+         controls.size() == m.actuators.size() && (last_rates.empty() || last_rates.size() == m.dofs.size()));
+  passive_terms(m, dt, last_rates, states, rows);
+  actuator_terms(m, controls, dt, states, rows);
+  explicit_forces(m, dt, states, load, rows);
 }
 
 }  // namespace ldlpgs
