@@ -481,13 +481,14 @@ class Converter {
   }
 
   std::string joint_name(int j) const { return name(m_->name_jntadr[j], "joint", j); }
+  int joint_dofs(int j) const { return m_->jnt_type[j] == mjJNT_FREE ? 6 : m_->jnt_type[j] == mjJNT_BALL ? 3 : 1; }
 
   // Joint j's dofs' passive dynamics (actuation.h), on the chain of its body: armature always,
   // stiffness and damping unless passive forces are off, friction loss unless it is. A free
   // joint's, or one beside it, is not modelled.
   void joint_dynamics(int j) {
     const int b = m_->jnt_bodyid[j], type = m_->jnt_type[j];
-    const int dofs = type == mjJNT_FREE ? 6 : type == mjJNT_BALL ? 3 : 1;
+    const int dofs = joint_dofs(j);
     const bool passive = !disabled(mjDSBL_PASSIVE);
     for (int k = 0; k < dofs; ++k) {
       const int dof = m_->jnt_dofadr[j] + k;
@@ -565,7 +566,7 @@ class Converter {
   // damping or a velocity servo of unlimited force softens the dof, a dof_motor for its friction
   // loss and for each force-limited velocity servo.
   void dynamics_rows(int j) {
-    const int dofs = m_->jnt_type[j] == mjJNT_FREE ? 6 : m_->jnt_type[j] == mjJNT_BALL ? 3 : 1;
+    const int dofs = joint_dofs(j);
     for (int k = 0; k < dofs; ++k) {
       const int d = dof_index_[m_->jnt_dofadr[j] + k];
       if (d < 0) continue;

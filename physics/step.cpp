@@ -221,7 +221,7 @@ void write_dof_rows(const Mechanism& m, std::span<const DofRow> rows, System* s)
   constexpr double kInertCompliance = 1e12;
   for (int k = 0; k < static_cast<int>(m.constraints.size()); ++k) {
     const ConstraintType type = m.constraints[k].type;
-    if (type != ConstraintType::dof_drive && type != ConstraintType::dof_motor) continue;
+    if (!acts_on_a_dof(type)) continue;
     const int i = s->blocks[k].position;
     const DofRow& row = rows[k];
     s->rhs[i] += row.target;
