@@ -5,6 +5,7 @@
 #include <cassert>
 #include <cmath>
 
+#include "ldlpgs/physics/chain_fits.h"
 #include "ldlpgs/physics/mechanism.h"
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/text.h"
@@ -40,13 +41,15 @@ std::string actuator_label(std::span<const Actuator> actuators, size_t i) {
 
 }  // namespace
 
-DofState dof_state(const DofDynamics& dof, const std::vector<RigidBody>& bodies) {
+DofState dof_state(const DofDynamics& dof, const std::vector<RigidBody>& bodies, const ChainFit* fit_given) {
   const Constraint& c = dof.coordinate;
   const RigidBody &a = bodies[c.body_a], &b = bodies[c.body_b];
-  const ChainFit fit = fit_chain(*c.chain, a, b, &c.coordinates);
+  ChainFit own;
+  if (!fit_given) own = fit_chain(*c.chain, a, b, &c.coordinates);
+  const ChainFit& fit = fit_given ? *fit_given : own;
   Twist z;
   DofState s;
-  s.q = chain_dof(*c.chain, fit, c.coordinates, c.joint, &z) + dof.offset;
+  s.q = chain_dof(*c.chain, fit, fit.q, c.joint, &z) + dof.offset;
   chain_jacobian_row(*c.chain, z, a, b, s.row.data());
   const std::array<const Eigen::Vector3d*, 4> v = {&a.linear_velocity, &a.angular_velocity, &b.linear_velocity,
                                                    &b.angular_velocity};
@@ -73,11 +76,11 @@ namespace {
 
 // Each dof's state, its spring's explicit force, and its drive row's armature and damping (the
 // armature's q_dot0 the last solve's rate where there is one) and friction row's bounds.
-void passive_terms(const Mechanism& m, double dt, std::span<const double> last_rates, std::span<DofState> states,
-                   std::span<DofRow> rows) {
+void passive_terms(const Mechanism& m, double dt, std::span<const double> last_rates, ChainFits* fits,
+                   std::span<DofState> states, std::span<DofRow> rows) {
   for (size_t d = 0; d < m.dofs.size(); ++d) {
     const DofDynamics& dof = m.dofs[d];
-    DofState& s = states[d] = dof_state(dof, m.bodies);
+    DofState& s = states[d] = dof_state(dof, m.bodies, fits ? fits->dof(m, static_cast<int>(d)) : nullptr);
     s.force = -dof.stiffness * (s.q - dof.springref);
     if (dof.drive >= 0) {
       rows[dof.drive] = DofRow{0, 0, -kUnbounded, kUnbounded};
@@ -138,10 +141,10 @@ void explicit_forces(const Mechanism& m, double dt, std::span<const DofState> st
 
 void joint_dynamics(const Mechanism& m, std::span<const double> controls, double dt,
                     std::span<const double> last_rates, std::span<DofState> states, std::span<double> load,
-                    std::span<DofRow> rows) {
+                    std::span<DofRow> rows, ChainFits* fits) {
   assert(states.size() == m.dofs.size() && rows.size() == m.constraints.size() &&
          controls.size() == m.actuators.size() && (last_rates.empty() || last_rates.size() == m.dofs.size()));
-  passive_terms(m, dt, last_rates, states, rows);
+  passive_terms(m, dt, last_rates, fits, states, rows);
   actuator_terms(m, controls, dt, states, rows);
   explicit_forces(m, dt, states, load, rows);
 }

@@ -72,7 +72,8 @@ struct DofState {
   std::array<double, 12> row{};    // q_dot = row . V
   double force = 0;                // the explicit generalized force this step (joint_dynamics)
 };
-DofState dof_state(const DofDynamics& dof, const std::vector<RigidBody>& bodies);
+// `fit`: the chain's fit at this pose where the caller shares one (chain_fits.h), else null.
+DofState dof_state(const DofDynamics& dof, const std::vector<RigidBody>& bodies, const ChainFit* fit = nullptr);
 
 // What a step asks of a dof_drive or dof_motor row: lambda = -(J V1 - target) / C within [lower,
 // upper] (C = 0: a rigid row; infinite: an inert one, a drive nothing softens).
@@ -97,9 +98,11 @@ void check_controls(std::span<const Actuator> actuators, std::span<const double>
 // which is the centrifugal change of q_dot, and a rotor's inertia must resist that change too
 // (measured from the pose's own rates, a slide with armature on the humanoid-like arm of
 // mjcf_test swung 0.35 m off MuJoCo in a second, at any timestep).
+// `fits`: the step's shared chain fits (chain_fits.h), or null.
 struct Mechanism;
+class ChainFits;
 void joint_dynamics(const Mechanism& mechanism, std::span<const double> controls, double dt,
                     std::span<const double> last_rates, std::span<DofState> states, std::span<double> load,
-                    std::span<DofRow> rows);
+                    std::span<DofRow> rows, ChainFits* fits = nullptr);
 
 }  // namespace ldlpgs

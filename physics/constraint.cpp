@@ -106,10 +106,21 @@ double hinge_angle(const Constraint& c, const Pose& p, Vector3d* gradient) {
 // The slide of b's anchor along a's axis, n = R_a n_a: n . d (a slide row).
 double slide_value(const Constraint& c, const Pose& p) { return axis_a(c, p, 2).dot(p.d); }
 
+// The chain's fit: the shared one given (chain_fits.h), else one from the constraint's own last
+// coordinates, into *own.
+const ChainFit& chain_fit(const Constraint& c, const RigidBody& a, const RigidBody& b, const ChainFit* given,
+                          ChainFit* own) {
+  if (given) return *given;
+  *own = fit_chain(*c.chain, a, b, &c.coordinates);
+  return *own;
+}
+
 // The coordinate a coordinate_limit bounds, and the covector of its rate.
-double coordinate_value(const Constraint& c, const RigidBody& a, const RigidBody& b, Twist* covector) {
-  const ChainFit fit = fit_chain(*c.chain, a, b, &c.coordinates);
-  return chain_coordinate(*c.chain, fit, c.coordinates, c.joint, covector);
+double coordinate_value(const Constraint& c, const RigidBody& a, const RigidBody& b, const ChainFit* given,
+                        Twist* covector) {
+  ChainFit own;
+  const ChainFit& fit = chain_fit(c, a, b, given, &own);
+  return chain_coordinate(*c.chain, fit, fit.q, c.joint, covector);
 }
 
 // The shared part of the builders: the bodies and the world anchors in each body's frame
@@ -201,7 +212,7 @@ bool constraint_type_from_string(std::string_view name, ConstraintType* type) {
 
 // Long: one case per constraint type, each with its Jacobian above its code (DEVELOPERS.md, the
 // tagged type dispatched by a switch).
-ConstraintRows evaluate(const Constraint& constraint, const RigidBody& a, const RigidBody& b) {
+ConstraintRows evaluate(const Constraint& constraint, const RigidBody& a, const RigidBody& b, const ChainFit* fit_given) {
   const Constraint& c = constraint;
   const Pose p = pose_of(c, a, b);
   ConstraintRows out;
@@ -291,7 +302,8 @@ ConstraintRows evaluate(const Constraint& constraint, const RigidBody& a, const 
       // c = y . r for each row covector y of the chain at its fitted coordinates, J = y . V_rel
       // (joint_set.h): J = [-t, -x - (o - p_a) x t, t, x + (o - p_b) x t] for y = (x; t) in b's
       // frame, o the chain's child origin.
-      const ChainFit fit = fit_chain(*c.chain, a, b, &c.coordinates);
+      ChainFit own;
+      const ChainFit& fit = chain_fit(c, a, b, fit_given, &own);
       const ChainCovectors y = chain_row_covectors(*c.chain, fit);
       for (int i = 0; i < out.rows; ++i) {
         out.c[i] = y.col(i).dot(fit.residual);
@@ -304,7 +316,7 @@ ConstraintRows evaluate(const Constraint& constraint, const RigidBody& a, const 
       // value = q_k (or a ball's angle), its rate z . V_rel with z the row of S^+ (joint_set.h):
       // J as joint_set's; c = value - min, or max - value with -J (a ball's angle: max only).
       Twist z;
-      const double value = coordinate_value(c, a, b, &z);
+      const double value = coordinate_value(c, a, b, fit_given, &z);
       const ChainJointType joint = c.chain->joints[c.joint].type;
       out.angular[0] = joint != ChainJointType::slide;
       out.c[0] = value - c.min;
@@ -319,9 +331,10 @@ ConstraintRows evaluate(const Constraint& constraint, const RigidBody& a, const 
     case ConstraintType::dof_motor: {
       // J = the dof's rate covector (a row of S^+, joint_set.h); no position error: the step
       // sets the row's target rate, softness and bounds (physics/actuation.h)
-      const ChainFit fit = fit_chain(*c.chain, a, b, &c.coordinates);
+      ChainFit own;
+      const ChainFit& fit = chain_fit(c, a, b, fit_given, &own);
       Twist z;
-      chain_dof(*c.chain, fit, c.coordinates, c.joint, &z);
+      chain_dof(*c.chain, fit, fit.q, c.joint, &z);
       out.angular[0] = dof_is_angular(*c.chain, c.joint);
       chain_jacobian_row(*c.chain, z, a, b, out.jacobian.data());
       break;
@@ -404,7 +417,7 @@ double limit_value(const Constraint& constraint, const RigidBody& a, const Rigid
   switch (constraint.type) {
     case ConstraintType::angular_limit: return hinge_angle(constraint, p, nullptr);
     case ConstraintType::positional_limit: return slide_value(constraint, p);
-    case ConstraintType::coordinate_limit: return coordinate_value(constraint, a, b, &unused);
+    case ConstraintType::coordinate_limit: return coordinate_value(constraint, a, b, nullptr, &unused);
     default: assert(false && "limit_value: not a limit"); return 0;
   }
 }

@@ -92,7 +92,10 @@ struct ConstraintRows {
   std::array<double, kMaxConstraintRows * 12> jacobian{};
 };
 
-ConstraintRows evaluate(const Constraint& constraint, const RigidBody& a, const RigidBody& b);
+// `fit`: the constraint's chain fitted at this pose (ChainFits, chain_fits.h), shared with the
+// other constraints on the chain; null: fitted here from the constraint's own last coordinates.
+ConstraintRows evaluate(const Constraint& constraint, const RigidBody& a, const RigidBody& b,
+                        const ChainFit* fit = nullptr);
 
 // Builders from world-frame data at the bodies' current pose. `axis` need not be unit; a zero
 // axis is a programmer error here (scene files are validated before).

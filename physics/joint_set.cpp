@@ -129,20 +129,63 @@ Motion relative_pose(const JointChain& chain, const RigidBody& a, const RigidBod
   return {ra.transpose() * rb, ra.transpose() * (child - parent)};
 }
 
-// S^+ by singular values, those below this fraction of the largest taken as zero: the
-// least-norm step where joints are redundant (two hinges on one axis).
+// S^+, n x 6 (n <= 6 dofs). Where S has full column rank by a margin (every joint set but a
+// redundant one) from the normal equations, S^+ = (S^T S)^-1 S^T: an n x n LDL^T, several times
+// cheaper than the SVD that was most of a humanoid's step (papers/physics.md, "MJCF models").
+// Else by singular values, those below kSingular of the largest taken as zero: the least-norm
+// step where joints are redundant (two hinges on one axis). The normal equations square S's
+// condition number, so they are taken only while it stays below 1/sqrt(kWellConditioned).
 constexpr double kSingular = 1e-10;
-using TwistSvd = Eigen::JacobiSVD<ChainTwists>;
+constexpr double kWellConditioned = 1e-6;  // smallest pivot of S^T S over its largest diagonal
+using TwistInverse = Eigen::Matrix<double, Eigen::Dynamic, 6, 0, kMaxChainDofs, 6>;
 
-TwistSvd twist_svd(const ChainTwists& s) {
-  TwistSvd svd(s, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  svd.setThreshold(kSingular);
-  return svd;
+// S^+ = (S^T S)^-1 S^T by a Cholesky factor G = L L^T of the n x n Gram matrix, in plain loops
+// (n <= 6: Eigen's dynamic-size LDLT and triangular solves cost more than the arithmetic); false
+// where a pivot falls below kWellConditioned of the largest diagonal.
+bool normal_equations_inverse(const ChainTwists& s, TwistInverse* out) {
+  const int n = static_cast<int>(s.cols());
+  double l[kMaxChainDofs][kMaxChainDofs];
+  double largest = 0;
+  for (int i = 0; i < n; ++i) largest = std::max(largest, s.col(i).squaredNorm());
+  for (int j = 0; j < n; ++j) {
+    for (int i = j; i < n; ++i) {
+      double g = s.col(i).dot(s.col(j));
+      for (int k = 0; k < j; ++k) g -= l[i][k] * l[j][k];
+      if (i == j) {
+        if (!(g > kWellConditioned * largest)) return false;
+        l[j][j] = std::sqrt(g);
+      } else {
+        l[i][j] = g / l[j][j];
+      }
+    }
+  }
+  out->resize(n, 6);
+  for (int c = 0; c < 6; ++c) {
+    double x[kMaxChainDofs];
+    for (int i = 0; i < n; ++i) {  // L y = (S^T)_c
+      double v = s(c, i);
+      for (int k = 0; k < i; ++k) v -= l[i][k] * x[k];
+      x[i] = v / l[i][i];
+    }
+    for (int i = n - 1; i >= 0; --i) {  // L^T x = y
+      double v = x[i];
+      for (int k = i + 1; k < n; ++k) v -= l[k][i] * x[k];
+      x[i] = v / l[i][i];
+    }
+    for (int i = 0; i < n; ++i) (*out)(i, c) = x[i];
+  }
+  return true;
 }
-// S^+ r; one twist (a hinge or a slide alone: most joints) without the SVD, S^T r / |S|^2, exact.
-ChainVector pseudo_inverse_times(const ChainTwists& s, const Twist& r) {
-  if (s.cols() == 1) return ChainVector::Constant(1, s.col(0).dot(r) / s.col(0).squaredNorm());
-  return twist_svd(s).solve(r);
+
+TwistInverse pseudo_inverse(const ChainTwists& s) {
+  const int n = static_cast<int>(s.cols());
+  if (n == 0) return TwistInverse(0, 6);
+  if (n == 1) return s.col(0).transpose() / s.col(0).squaredNorm();  // a hinge or a slide alone: exact
+  TwistInverse out;
+  if (normal_equations_inverse(s, &out)) return out;
+  Eigen::JacobiSVD<ChainTwists> svd(s, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  svd.setThreshold(kSingular);
+  return svd.solve(Eigen::Matrix<double, 6, 6>::Identity());
 }
 
 // The fit stops once a step moves no coordinate by more than this (rad or m), or after
@@ -293,7 +336,7 @@ ChainFit fit_chain(const JointChain& chain, const RigidBody& a, const RigidBody&
   for (int iteration = 0;; ++iteration) {
     fit.residual = residual(forward(chain, *q, &fit.twists), target);
     if (chain.dofs == 0 || iteration == kMaxIterations) break;
-    ChainVector dq = pseudo_inverse_times(fit.twists, fit.residual);
+    ChainVector dq = pseudo_inverse(fit.twists) * fit.residual;
     const double step = dq.cwiseAbs().maxCoeff();
     if (!(step < 1e300)) break;  // not finite: keep the last pose's q
     if (step > kMaxStep) dq *= kMaxStep / step;
@@ -303,6 +346,8 @@ ChainFit fit_chain(const JointChain& chain, const RigidBody& a, const RigidBody&
       break;
     }
   }
+  fit.rates = pseudo_inverse(fit.twists);
+  fit.q = *q;
   return fit;
 }
 
@@ -344,14 +389,6 @@ ChainCovectors chain_row_covectors(const JointChain& chain, const ChainFit& fit)
 
 namespace {
 
-// The covector of dof i's rate, q_dot_i = z . V_rel: row i of S^+ = V Sigma^+ U^T.
-Twist dof_rate(const TwistSvd& svd, int i) {
-  Twist z = Twist::Zero();
-  for (int k = 0; k < static_cast<int>(svd.rank()); ++k)
-    z += (svd.matrixV()(i, k) / svd.singularValues()[k]) * svd.matrixU().col(k);
-  return z;
-}
-
 int first_dof(const JointChain& chain, int joint) {
   int dof = 0;
   for (int k = 0; k < joint; ++k) dof += joint_dofs(chain.joints[k]);
@@ -364,9 +401,9 @@ double chain_coordinate(const JointChain& chain, const ChainFit& fit, const Chai
                         Twist* covector) {
   assert(joint >= 0 && joint < static_cast<int>(chain.joints.size()));
   const int dof = first_dof(chain, joint);
-  const TwistSvd svd = twist_svd(fit.twists);
+  const auto rate = [&](int i) -> Twist { return fit.rates.row(i).transpose(); };
   if (chain.joints[joint].type != ChainJointType::ball) {
-    *covector = dof_rate(svd, dof);
+    *covector = rate(dof);
     return q[dof];
   }
   // the angle |theta|: its rate is theta/|theta| . (the ball's rates), the rotation vector's
@@ -374,7 +411,7 @@ double chain_coordinate(const JointChain& chain, const ChainFit& fit, const Chai
   const Vector3d theta(q[dof], q[dof + 1], q[dof + 2]);
   const double angle = theta.norm();
   const Vector3d direction = angle > 0 ? (theta / angle).eval() : Vector3d::UnitX();
-  *covector = direction[0] * dof_rate(svd, dof) + direction[1] * dof_rate(svd, dof + 1) + direction[2] * dof_rate(svd, dof + 2);
+  *covector = direction[0] * rate(dof) + direction[1] * rate(dof + 1) + direction[2] * rate(dof + 2);
   return angle;
 }
 
@@ -389,8 +426,7 @@ bool dof_is_angular(const JointChain& chain, int dof) {
 
 double chain_dof([[maybe_unused]] const JointChain& chain, const ChainFit& fit, const ChainCoordinates& q, int dof, Twist* covector) {
   assert(dof >= 0 && dof < chain.dofs);
-  const ChainTwists& twists = fit.twists;
-  *covector = twists.cols() == 1 ? (twists.col(0) / twists.col(0).squaredNorm()).eval() : dof_rate(twist_svd(twists), dof);
+  *covector = fit.rates.row(dof).transpose();
   return q[dof];
 }
 

@@ -82,11 +82,13 @@ std::shared_ptr<const JointChain> make_joint_chain(const RigidBody& a, const Rig
 // else the child): what body shattering needs (shatter.h). The rows stay the same rows.
 std::shared_ptr<const JointChain> shift_chain(const JointChain& chain, bool parent, const Eigen::Vector3d& shift);
 
-// The chain fitted at the bodies' pose: q* (searched from *q, which receives it), the residual r
-// and the twists S at q*.
+// The chain fitted at the bodies' pose: q* (searched from *q, which receives it), the residual r,
+// the twists S at q*, and S^+ (row i: the covector of dof i's rate).
 struct ChainFit {
+  ChainCoordinates q{};  // q*
   Twist residual = Twist::Zero();
   ChainTwists twists;
+  Eigen::Matrix<double, Eigen::Dynamic, 6, 0, kMaxChainDofs, 6> rates;
 };
 ChainFit fit_chain(const JointChain& chain, const RigidBody& a, const RigidBody& b, ChainCoordinates* q);
 

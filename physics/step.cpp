@@ -14,6 +14,7 @@
 
 #include <Eigen/Geometry>
 
+#include "ldlpgs/physics/chain_fits.h"
 #include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {
@@ -31,12 +32,13 @@ std::vector<int> body_columns(const Mechanism& m) {
 
 }  // namespace
 
-ConstraintError constraint_error(const Mechanism& m) {
+ConstraintError constraint_error(const Mechanism& m, ChainFits* fits) {
   ConstraintError e;
   double sum_p = 0, sum_a = 0;
   int n_p = 0, n_a = 0;
-  for (const Constraint& c : m.constraints) {
-    const ConstraintRows rows = evaluate(c, m.bodies[c.body_a], m.bodies[c.body_b]);
+  for (int k = 0; k < static_cast<int>(m.constraints.size()); ++k) {
+    const Constraint& c = m.constraints[k];
+    const ConstraintRows rows = evaluate(c, m.bodies[c.body_a], m.bodies[c.body_b], fits ? fits->constraint(m, k) : nullptr);
     for (int r = 0; r < rows.rows; ++r) {
       const double v = is_equality(c.type) ? std::abs(rows.c[r]) : std::max(0.0, -rows.c[r]);
       if (rows.angular[r]) {
@@ -152,7 +154,8 @@ Eigen::Vector3d gyroscopic_velocity(const RigidBody& b, double dt) {
 // the constraints already evaluated at this pose.
 void write_velocity_system(const Mechanism& m, const StepOptions& options, const std::vector<int>& column,
                            std::span<const double> load, std::span<const double> predicted,
-                           std::span<const ConstraintRows> known, std::span<double> v0, System* s) {
+                           std::span<const ConstraintRows> known, ChainFits* fits, std::span<double> v0,
+                           System* s) {
   const double dt = m.timestep;
   const bool gyroscopic = implicit_gyroscopic(m, options);
   write_inverse_mass(m, column, s);
@@ -208,7 +211,8 @@ void write_velocity_system(const Mechanism& m, const StepOptions& options, const
   for (int k = 0; k < static_cast<int>(m.constraints.size()); ++k) {
     const Constraint& con = m.constraints[k];
     // (a dof row's evaluation is not kept by the projection, which skips it: acts_on_a_dof)
-    if (known.empty() || acts_on_a_dof(con.type)) write_rows(k, evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b]));
+    if (known.empty() || acts_on_a_dof(con.type))
+      write_rows(k, evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b], fits ? fits->constraint(m, k) : nullptr));
     else write_rows(k, known[k]);
   }
   std::fill(s->compliance.begin(), s->compliance.end(), options.compliance);
@@ -278,7 +282,7 @@ System build_system(const Mechanism& m, const StepOptions& options) {
   std::vector<DofRow> rows(m.constraints.size());
   joint_dynamics(m, controls, m.timestep, {}, states, load, rows);
   if (m.fluid.active()) add_fluid_loads(m, load);
-  write_velocity_system(m, options, column, load, {}, {}, v0, &s);
+  write_velocity_system(m, options, column, load, {}, {}, nullptr, v0, &s);
   write_dof_rows(m, rows, &s);
   return s;
 }
@@ -304,7 +308,8 @@ Simulation::Simulation(Mechanism mechanism, const StepOptions& options)
       controls_(mechanism_.actuators.size(), 0.0),
       dof_states_(mechanism_.dofs.size()),
       dof_rows_(mechanism_.constraints.size()),
-      dof_rates_(mechanism_.dofs.size(), std::numeric_limits<double>::quiet_NaN()) {
+      dof_rates_(mechanism_.dofs.size(), std::numeric_limits<double>::quiet_NaN()),
+      chain_fits_(mechanism_) {
   for (const Constraint& c : mechanism_.constraints)
     if (is_equality(c.type)) jointed_[c.body_a] = jointed_[c.body_b] = 1;
   if (has_shapes(mechanism_)) {
@@ -351,7 +356,8 @@ void Simulation::velocity_system() {
     }
     for (int k = 0; k < static_cast<int>(mechanism_.constraints.size()); ++k) {
       const Constraint& con = mechanism_.constraints[k];
-      const ConstraintRows rows = evaluate(con, mechanism_.bodies[con.body_a], mechanism_.bodies[con.body_b]);
+      const ConstraintRows rows =
+          evaluate(con, mechanism_.bodies[con.body_a], mechanism_.bodies[con.body_b], chain_fits_.constraint(mechanism_, k));
       for (int r = 0; r < rows.rows; ++r) predicted_[system_.blocks[k].position + r] = rows.c[r];
     }
     restore_pose();
@@ -360,7 +366,7 @@ void Simulation::velocity_system() {
   // since): its rows are this step's, one evaluation saved per step.
   write_velocity_system(mechanism_, options_, column_, load_,
                         options_.curvature_target ? predicted_ : std::span<const double>(),
-                        evaluated_valid_ ? evaluated_ : std::span<const ConstraintRows>(), v0_, &system_);
+                        evaluated_valid_ ? evaluated_ : std::span<const ConstraintRows>(), &chain_fits_, v0_, &system_);
   write_dof_rows(mechanism_, dof_rows_, &system_);
   contact_rows(/*velocity=*/true, /*with_jacobian=*/true);
 }
@@ -383,7 +389,8 @@ double Simulation::position_rhs(bool with_jacobian) {
     // trivially destructible, so the old value needs no destructor.
     static_assert(std::is_trivially_destructible_v<ConstraintRows>);
     const ConstraintRows& rows =
-        *::new (static_cast<void*>(&evaluated_[k])) ConstraintRows(evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b]));
+        *::new (static_cast<void*>(&evaluated_[k]))
+            ConstraintRows(evaluate(con, m.bodies[con.body_a], m.bodies[con.body_b], chain_fits_.constraint(m, k)));
     if (with_jacobian) write_jacobian(rows, k, &system_);
     // (H_0 + E D_0) dmu = -c; an inequality row (c >= 0 respected, dmu >= 0) then asks only
     // J dq >= -c: a respected gap stays open, a violated one is closed.
@@ -742,7 +749,7 @@ StepReport Simulation::step() {
     report.contact_us = us(start, Clock::now());
   }
   if (!m.dofs.empty() || !m.actuators.empty())
-    joint_dynamics(m, controls_, dt, dof_rates_, dof_states_, load_, dof_rows_);
+    joint_dynamics(m, controls_, dt, dof_rates_, dof_states_, load_, dof_rows_, &chain_fits_);
   if (m.fluid.active()) add_fluid_loads(m, load_);
   velocity_system();
   const auto solve_start = Clock::now();
@@ -787,7 +794,7 @@ StepReport Simulation::step() {
   time_ += dt;
   report.step_us = us(start, Clock::now());
   if (options_.diagnostics) {
-    report.error = constraint_error(m);
+    report.error = constraint_error(m, &chain_fits_);
     report.energy = total_energy(m);
     report.penetration_max_m = penetration_max();
   }

@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "ldlpgs/physics/chain_fits.h"
 #include "ldlpgs/physics/collision.h"
 #include "ldlpgs/physics/contact.h"
 #include "ldlpgs/physics/mechanism.h"
@@ -91,7 +92,8 @@ struct ConstraintError {
   double position_max = 0, position_rms = 0;  // translational rows (m)
   double angular_max = 0, angular_rms = 0;    // angular rows (rad)
 };
-ConstraintError constraint_error(const Mechanism& mechanism);
+// `fits`: a Simulation's shared chain fits (chain_fits.h), or null.
+ConstraintError constraint_error(const Mechanism& mechanism, ChainFits* fits = nullptr);
 
 // Kinetic plus gravitational potential energy (J), potential zero at the origin.
 double total_energy(const Mechanism& mechanism);
@@ -243,6 +245,7 @@ class Simulation {
   std::vector<DofState> dof_states_;  // joint_dynamics' scratch (size dofs)
   std::vector<DofRow> dof_rows_;    // the dof_drive and dof_motor rows' targets (size constraints)
   std::vector<double> dof_rates_;   // each dof's rate after the last solve, NaN before (size dofs)
+  ChainFits chain_fits_;            // each joint chain's fit, once per pose
 };
 
 }  // namespace ldlpgs

@@ -350,6 +350,40 @@ TEST(DofRows, RateIsTheDofsCoordinateRateOnTheJointsMotions) {
   }
 }
 
+// A fit's rates are S^+ of its twists, against Eigen's complete orthogonal decomposition (the
+// reference): by the normal equations on independent joints (random sets), and least-norm on
+// redundant ones, where the normal equations are refused: two hinges on one axis and anchor, a
+// hinge beside a ball, and hinges 1e-7 rad apart (where they would be 2e5 off).
+TEST(DofRows, RatesAreThePseudoInverseOfTheTwistsAlsoWhereJointsAreRedundant) {
+  std::mt19937 rng(99);
+  const auto expect_pseudo_inverse = [](const ChainFit& fit, const std::string& what) {
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(Eigen::MatrixXd(fit.twists));
+    cod.setThreshold(1e-10);
+    const Eigen::MatrixXd reference = cod.pseudoInverse();
+    ASSERT_EQ(fit.rates.rows(), reference.rows()) << what;
+    EXPECT_LT((Eigen::MatrixXd(fit.rates) - reference).cwiseAbs().maxCoeff(), 1e-8 * (1 + reference.cwiseAbs().maxCoeff()))
+        << what;
+  };
+  for (int pose = 0; pose < 20; ++pose) {
+    const RigidBody a = random_body(rng), b = random_body(rng);
+    const Constraint set = make_joint_set(0, a, 1, b, random_joints(rng, b));
+    ChainCoordinates q{};
+    expect_pseudo_inverse(fit_chain(*set.chain, a, b, &q), "random set " + std::to_string(pose));
+  }
+  const RigidBody a = random_body(rng), b = random_body(rng);
+  const Vector3d p = b.position, z = Vector3d::UnitZ(), x = Vector3d::UnitX();
+  const std::vector<std::pair<std::string, std::vector<ChainJoint>>> redundant = {
+      {"two hinges on one axis", {{ChainJointType::hinge, z, p}, {ChainJointType::hinge, z, p}, {ChainJointType::slide, x, p}}},
+      {"hinges 1e-7 rad apart",
+       {{ChainJointType::hinge, z, p}, {ChainJointType::hinge, Vector3d(1e-7, 0, 1).normalized(), p}}},
+      {"ball and hinge", {{ChainJointType::hinge, x, p}, {ChainJointType::ball, z, p}}}};
+  for (const auto& [what, joints] : redundant) {
+    const Constraint set = make_joint_set(0, a, 1, b, joints);
+    ChainCoordinates q{};
+    expect_pseudo_inverse(fit_chain(*set.chain, a, b, &q), what);
+  }
+}
+
 // ---- per-type claims over all types ----
 
 class EveryType : public ::testing::TestWithParam<ConstraintType> {};
