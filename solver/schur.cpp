@@ -10,11 +10,14 @@ namespace ldlpgs {
 bool SchurComplement::solve(const System& system, const RowCache& rows, LdlBlock& ldl, int sweeps, double tolerance,
                             std::span<double> lambda, std::span<double> dv) {
   gather_rows(system, lambda);
+  group_islands(system, ldl);
   build(system, rows, ldl);
   const size_t n = rows_.size();
   w_.assign(n, 0.0);
-  for (size_t c = 0; c < n; ++c)
-    for (size_t j = 0; j < n; ++j) w_[j] += s_[c * n + j] * lambda[rows_[c].index];
+  for (size_t c = 0; c < n; ++c) {
+    const double* column = s_column(c);
+    for (size_t j = island_start(c), m = island_size(c), i = 0; i < m; ++i) w_[j + i] += column[i] * lambda[rows_[c].index];
+  }
   int it = 0;
   while (it < sweeps && sweep(system, rows, lambda) > tolerance) ++it;
   back_substitute(system, rows, ldl, lambda, dv);
@@ -37,6 +40,50 @@ void SchurComplement::gather_rows(const System& system, std::span<double> lambda
     for (int r = 0; r < b.size; ++r) rows_.push_back({k, r, b.position + r});
   }
   blocks_.push_back(static_cast<int>(rows_.size()));
+}
+
+int SchurComplement::find(int column) {
+  while (parent_[column] != column) column = parent_[column] = parent_[parent_[column]];
+  return column;
+}
+
+// I's rows island by island (an island: the velocity columns joined by E's and I's blocks), in
+// block order within one, each island's block of S placed in s_.
+void SchurComplement::group_islands(const System& system, const LdlBlock& ldl) {
+  parent_.resize(system.num_columns);
+  for (int c = 0; c < system.num_columns; ++c) parent_[c] = c;
+  const auto join = [&](const RowBlock& b) {
+    if (b.column_a >= 0 && b.column_b >= 0) parent_[find(b.column_a)] = find(b.column_b);
+  };
+  for (int k : ldl.blocks()) join(system.blocks[k]);
+  for (size_t bi = 0; bi + 1 < blocks_.size(); ++bi) join(system.blocks[rows_[blocks_[bi]].block]);
+  order_.clear();
+  for (size_t bi = 0; bi + 1 < blocks_.size(); ++bi) {
+    const RowBlock& b = system.blocks[rows_[blocks_[bi]].block];
+    order_.push_back({find(b.column_a >= 0 ? b.column_a : b.column_b), blocks_[bi]});
+  }
+  std::sort(order_.begin(), order_.end());  // (by island, then block order; std::stable_sort would allocate)
+  sorted_.clear();
+  islands_.clear();
+  s_offset_.clear();
+  size_t s_size = 0;
+  for (size_t o = 0; o < order_.size(); ++o) {
+    if (o == 0 || order_[o].first != order_[o - 1].first) islands_.push_back(sorted_.size());
+    const int first = order_[o].second;
+    const RowBlock& b = system.blocks[rows_[first].block];
+    blocks_[o] = static_cast<int>(sorted_.size());
+    for (int r = 0; r < b.size; ++r) sorted_.push_back(rows_[first + r]);
+  }
+  islands_.push_back(sorted_.size());
+  rows_.swap(sorted_);
+  row_island_.resize(rows_.size());
+  for (size_t i = 0; i + 1 < islands_.size(); ++i) {
+    s_offset_.push_back(s_size);
+    const size_t m = islands_[i + 1] - islands_[i];
+    s_size += m * m;
+    for (size_t c = islands_[i]; c < islands_[i + 1]; ++c) row_island_[c] = static_cast<int>(i);
+  }
+  s_.resize(s_size);
 }
 
 // e_ = lambda_E = M^-1 (R_E - J_E v_): E's exact answer to its right-hand side and v_.
@@ -95,7 +142,6 @@ void SchurComplement::build(const System& system, const RowCache& rows, LdlBlock
   for (int k : ldl.blocks()) equality_rows += system.blocks[k].size;
   e_.resize(equality_rows);
   v_.assign(kVelocityBlock * static_cast<size_t>(system.num_columns), 0.0);
-  s_.resize(n * n);
   q_.resize(n);
   couple_rows(system, rows, ldl);
   const auto g_times = [&](size_t j, const double* x) {  // (G^T x)_j
@@ -107,13 +153,16 @@ void SchurComplement::build(const System& system, const RowCache& rows, LdlBlock
   for (size_t c = 0; c < n; ++c)
     for (int p = g_start_[c]; p < g_start_[c + 1]; ++p) x_[c * equality_rows + g_[p].at] += g_[p].value;
   if (equality_rows > 0 && n > 0) ldl.solve(x_, static_cast<int>(n));
-  for (size_t c = 0; c < n; ++c) {
+  for (size_t c = 0; c < n; ++c) {  // (S is zero between islands: only c's own is built)
     const Row& row = rows_[c];
     const double* x = x_.data() + c * equality_rows;
+    double* column = s_column(c);
+    const size_t first = island_start(c), m = island_size(c);
     add_row_impulse(system, rows, row.block, row.row, 1.0, v_);  // W J_c^T: H_Ic = J_I v_
-    for (size_t j = 0; j < n; ++j) s_[c * n + j] = row_times(system, rows_[j].block, rows_[j].row, v_) - g_times(j, x);
+    for (size_t i = 0; i < m; ++i)
+      column[i] = row_times(system, rows_[first + i].block, rows_[first + i].row, v_) - g_times(first + i, x);
     add_row_impulse(system, rows, row.block, row.row, -1.0, v_);
-    s_[c * n + c] += system.compliance[row.index] * rows.diag[row.index];
+    column[c - first] += system.compliance[row.index] * rows.diag[row.index];
   }
   solve_equalities(system, ldl);  // (v_ is zero again: each column's impulse was taken back)
   for (size_t j = 0; j < n; ++j) q_[j] = system.rhs[rows_[j].index] - g_times(j, e_.data());
@@ -123,18 +172,19 @@ void SchurComplement::build(const System& system, const RowCache& rows, LdlBlock
 // row within each row's bounds, a friction disk's two rows together (pgs_friction_disk's step,
 // on S's 2x2 block). Returns the largest S_ii |dlambda_i|.
 double SchurComplement::sweep(const System& system, const RowCache& rows, std::span<double> lambda) {
-  const size_t n = rows_.size();
   double largest = 0;
+  const auto entry = [&](size_t c, size_t j) { return s_column(c)[j - island_start(c)]; };  // S_cj, one island
   const auto move = [&](size_t c, double step) {
     lambda[rows_[c].index] += step;
-    const double* column = s_.data() + c * n;
-    for (size_t j = 0; j < n; ++j) w_[j] += column[j] * step;
-    largest = std::max(largest, s_[c * n + c] * std::abs(step));
+    const double* column = s_column(c);
+    const size_t first = island_start(c), m = island_size(c);
+    for (size_t i = 0; i < m; ++i) w_[first + i] += column[i] * step;
+    largest = std::max(largest, column[c - first] * std::abs(step));
   };
   const auto row_step = [&](size_t c) {
     const Row& row = rows_[c];
     const RowBlock& b = system.blocks[row.block];
-    const double d = s_[c * n + c] + b.regularization * rows.diag[row.index];
+    const double d = entry(c, c) + b.regularization * rows.diag[row.index];
     if (!(d > 0)) return;
     double lo, hi;
     row_bounds(system, b, row.index, lambda, &lo, &hi);
@@ -144,8 +194,8 @@ double SchurComplement::sweep(const System& system, const RowCache& rows, std::s
   for (size_t bi = 0; bi + 1 < blocks_.size(); ++bi) {
     const size_t first = blocks_[bi], end = blocks_[bi + 1];
     const RowBlock& b = system.blocks[rows_[first].block];
-    const double k11 = s_[first * n + first], k22 = end - first == 2 ? s_[(first + 1) * n + first + 1] : 0;
-    const double k12 = end - first == 2 ? s_[first * n + first + 1] : 0;
+    const double k11 = entry(first, first), k22 = end - first == 2 ? entry(first + 1, first + 1) : 0;
+    const double k12 = end - first == 2 ? entry(first, first + 1) : 0;
     const bool disk = b.friction_row >= 0 && !b.friction_pyramid && end - first == 2;
     if (!disk || !disk_solvable(k11, k12, k22)) {
       for (size_t c = first; c < end; ++c) row_step(c);

@@ -3,9 +3,12 @@
 // exactly, which leaves an LCP on the inequality rows I alone:
 //   w_I = S lambda_I - q, complementary to lambda_I within its bounds,
 //   S = H_II + E_I D_I - H_IE M^-1 H_EI,   q = R_I - H_IE M^-1 R_E,   M = H_EE + E_E D_E,
-// then lambda_E = M^-1 (R_E - H_EI lambda_I). S is dense, one solve with the factor per row of
-// I, and projected Gauss-Seidel on it gives every row its effective mass with the joints'
-// response included. Block Gauss-Seidel's sweep instead moves the bodies of a row as if free and
+// then lambda_E = M^-1 (R_E - H_EI lambda_I). S is dense on each island (the rows whose bodies
+// are joined through rows of E or I; S is zero between islands), one solve with the factor per
+// row of I, and projected Gauss-Seidel on it gives every row its effective mass with the joints'
+// response included. I's rows are kept island by island, each island's S block apart: 22
+// humanoids cost 22 small blocks, not one of their size squared (papers/physics.md, "MJCF
+// models: Gymnasium's"). Block Gauss-Seidel's sweep instead moves the bodies of a row as if free and
 // the next block step pulls them back: on contacts pressing on jointed bodies it converges
 // slowly (papers/physics.md, "Vehicles on the ground").
 #include <span>
@@ -34,13 +37,24 @@ class SchurComplement {
                        std::span<double> dv);
   void couple_rows(const System& system, const RowCache& rows, const LdlBlock& ldl);
   void solve_equalities(const System& system, LdlBlock& ldl);
+  void group_islands(const System& system, const LdlBlock& ldl);
+  int find(int column);  // the island's root column (union-find with path halving)
+  double* s_column(size_t c) { return s_.data() + s_offset_[row_island_[c]] + (c - island_start(c)) * island_size(c); }
+  size_t island_start(size_t c) const { return islands_[row_island_[c]]; }
+  size_t island_size(size_t c) const { return islands_[row_island_[c] + 1] - islands_[row_island_[c]]; }
 
   struct Row {
     int block, row, index;  // block k, its row r, the System row
   };
-  std::vector<Row> rows_;       // I: the inequality rows that can carry an impulse, in block order
+  std::vector<Row> rows_;       // I: the inequality rows that can carry an impulse, island by island, in block order within one
   std::vector<int> blocks_;     // where each of I's blocks starts in rows_, and rows_.size() last
-  std::vector<double> s_;       // S, column-major (size |I|^2)
+  std::vector<size_t> islands_;     // where each island starts in rows_, and rows_.size() last
+  std::vector<int> row_island_;     // the island of each row of rows_
+  std::vector<size_t> s_offset_;    // where each island's block of S starts in s_
+  std::vector<int> parent_;         // union-find over the velocity columns (size num_columns)
+  std::vector<std::pair<int, int>> order_;  // (island root, block start in rows_) to sort I's blocks by
+  std::vector<Row> sorted_;         // rows_ reordered
+  std::vector<double> s_;       // S, island by island, each block column-major (size sum of |island|^2)
   std::vector<double> q_, w_;   // q and S lambda_I (size |I|)
   std::vector<double> e_;       // a vector over E's rows in the factor's order
   std::vector<double> x_;       // M^-1 G, column-major (size |E| |I|)
