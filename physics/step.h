@@ -191,6 +191,10 @@ class Simulation {
 
  private:
   RigidBody& writable(int body, const char* what, bool dynamic_only);
+  // The stages of step() (physics/step_stages.h lists their files)
+  void prepare_velocity_step();             // joint dynamics, loads, then velocity_system()
+  void integrate();                         // V1 into the bodies, then their poses
+  void diagnose(StepReport* report);        // StepOptions::diagnostics' fields
   void velocity_system();                   // J, W, rhs at the current pose into system_
   double position_rhs(bool with_jacobian);  // rhs = -c at the current pose (and J, W with it); max error
   bool post_stabilize(StepReport* report);  // false: a factorization failed
