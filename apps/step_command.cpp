@@ -200,7 +200,7 @@ struct AppliedLoads {
 // What a run's steps add up to: per-step times (their medians are reported), maxima, the first
 // failed factorization and the first step run_failure refuses.
 struct StepTotals {
-  std::vector<double> solve_us, step_us, post_us, contact_us;
+  std::vector<double> solve_us, step_us, post_us, contact_us, prepare_us, integrate_us;
   StepReport worst;  // maxima over the steps
   int64_t post_iterations = 0;
   int failed = 0;
@@ -211,6 +211,8 @@ struct StepTotals {
     step_us.push_back(r.step_us);
     post_us.push_back(r.post_stabilize_us);
     contact_us.push_back(r.contact_us);
+    prepare_us.push_back(r.prepare_us);
+    integrate_us.push_back(r.integrate_us);
     post_iterations += r.post_stabilize_iterations;
     worst.contacts = std::max(worst.contacts, r.contacts);
     worst.penetration_max_m = std::max(worst.penetration_max_m, r.penetration_max_m);
@@ -277,6 +279,8 @@ void StepSummary::print_json(const char* command) const {
                       {"post_stabilize_us", median(totals.post_us)},
                       {"step_us", median(totals.step_us)},
                       {"contact_us", median(totals.contact_us)},
+                      {"prepare_us", median(totals.prepare_us)},
+                      {"integrate_us", median(totals.integrate_us)},
                       {"contacts_max", worst.contacts},
                       {"penetration_max_m", worst.penetration_max_m},
                       {"symbolic_analyses", sim.solver().symbolic_stats().analyses},

@@ -104,10 +104,13 @@ double total_energy(const Mechanism& mechanism);
 System build_system(const Mechanism& mechanism, const StepOptions& options);
 
 struct StepReport {
+  // Each stage's time (physics/step_stages.h), and the whole step's
+  double contact_us = 0;          // collide: collision detection and the contacts' matching
+  double prepare_us = 0;          // prepare: joint dynamics, loads, J, W, R (the contacts' rows too)
   double solve_us = 0;            // the velocity solve alone (numeric phase: H, LDL^T, sweeps)
+  double integrate_us = 0;        // impulses stored, velocities and poses integrated
   double post_stabilize_us = 0;   // the position correction (evaluations, solves, moves)
-  double step_us = 0;             // the whole step
-  double contact_us = 0;          // collision detection and the contacts' matching
+  double step_us = 0;             // the whole step (StepOptions::diagnostics' errors and energy not included)
   int contacts = 0;               // contact points this step
   int post_stabilize_iterations = 0;  // done (0 when off, or skipped after a failed factorization)
   SolveResult result;             // a failed factorization is reported here (the PGS impulses are used)
