@@ -75,6 +75,8 @@ inline uint64_t not_finite_bit(double x) { return (((std::bit_cast<uint64_t>(x) 
 
 const char* kernel_isa() { return current_passes()->isa; }
 
+bool kernels_use_avx2() { return current_passes() != &passes::kSse2; }
+
 void set_kernel_isa(const std::string& isa) {
   if (isa == "auto") {
     current_passes() = best_passes();

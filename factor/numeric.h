@@ -66,6 +66,9 @@ const char* kernel_isa();
 // ArgumentError for another name or one this CPU or build cannot run. For benchmarks and tests
 // that compare the two; not thread-safe against a running factorization.
 void set_kernel_isa(const std::string& isa);
+// Whether the chosen kernels are 4 lanes wide or wider ("avx2", "avx512"): the one CPU-feature
+// dispatch of the build, which solver/'s contact lanes follow too (same values either way).
+bool kernels_use_avx2();
 
 namespace detail {
 // Cache-line-aligned storage for the numeric phase's arrays, so that where a 4-lane load of the

@@ -6,6 +6,7 @@
 #include <bit>
 #include <cstring>
 
+#include "ldlpgs/factor/numeric.h"
 #include "ldlpgs/solver/row_cache.h"
 #include "lanes_sweep.h"
 
@@ -191,22 +192,12 @@ void ContactLanes::sweep_order(std::vector<int>* blocks) const {
       }
 }
 
-#ifdef LDLPGS_HAVE_AVX2_LANES
-namespace {
-bool cpu_has_avx2() {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2");
-}
-}  // namespace
-#endif
-
 void sweep_lane_groups(const System& system, const RowCache& rows, std::span<double> lambda, std::span<double> dv) {
   const ContactLanes& lanes = rows.lanes;
   const lanes::SweepData data{lanes.groups.data(), static_cast<int>(lanes.groups.size()), lanes.slots.data(),
                               system.blocks.data(), system.compliance.data(), lambda.data(), dv.data()};
 #ifdef LDLPGS_HAVE_AVX2_LANES
-  static const bool avx2 = cpu_has_avx2();
-  if (avx2) {
+  if (kernels_use_avx2()) {  // (factor/'s choice of kernels: one dispatch for both libraries)
     lanes::sweep_groups_avx2(data);
     return;
   }

@@ -543,8 +543,10 @@ TEST(NumericMisuse, UnknownKernelIsaThrows) {
   EXPECT_TRUE(isa == "sse2" || isa == "avx2") << isa;
   set_kernel_isa("sse2");
   EXPECT_STREQ(kernel_isa(), "sse2");
+  EXPECT_FALSE(kernels_use_avx2());  // (solver/'s contact lanes follow the same choice)
   set_kernel_isa("auto");
   EXPECT_EQ(kernel_isa(), isa);
+  EXPECT_EQ(kernels_use_avx2(), isa != "sse2");
 }
 
 // A CPU with AVX2 runs the AVX2 kernels by default (x86-64 builds with GCC or clang have them:
