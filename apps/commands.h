@@ -35,7 +35,7 @@ struct ViewPage {
 };
 ViewPage write_view_page(const std::string& scene, int steps, const std::string& html_file);
 
-// ldlpgs::load_mechanism (physics/scenes.h), printing what an MJCF conversion dropped on stderr.
+// ldlpgs::load_mechanism (physics/io/scenes.h), printing what an MJCF conversion dropped on stderr.
 Mechanism load_mechanism(const std::string& spec, bool allow_dropped = false);
 
 }  // namespace ldlpgs::cli

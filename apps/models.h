@@ -19,7 +19,7 @@ struct ModelRow {
   std::string failure, mujoco_skipped;
 };
 
-// The model loaded (physics/mjcf.h), stepped `steps` steps of its own timestep by our ldl-pgs
+// The model loaded (physics/io/mjcf.h), stepped `steps` steps of its own timestep by our ldl-pgs
 // with `schedule`, then by MuJoCo (peers/peer.h, mjcf_peer), both at zero controls.
 ModelRow check_model(const std::string& path, int steps, HybridSchedule schedule, bool allow_dropped);
 // Its --json object (docs/cli.md's vocabulary).

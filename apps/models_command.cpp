@@ -1,5 +1,5 @@
 // ldlpgs models PATH...: a user's own MJCF models checked in one run. Every *.xml file named, or
-// found under a named folder, is loaded (physics/mjcf.h) and stepped --steps steps of its own
+// found under a named folder, is loaded (physics/io/mjcf.h) and stepped --steps steps of its own
 // timestep by our ldl-pgs beside MuJoCo stepping the same file (peers/peer.h, mjcf_peer: its
 // own reduced coordinates), both at zero controls; one row per
 // model: loaded or refused and why, what was dropped, step times (ours and MuJoCo's medians),
@@ -18,7 +18,7 @@
 #include "apps/options.h"
 #include "peers/median.h"
 #include "peers/peer.h"
-#include "ldlpgs/physics/mjcf.h"
+#include "ldlpgs/physics/io/mjcf.h"
 #include "ldlpgs/physics/step.h"
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/text.h"

@@ -16,7 +16,7 @@
 #include "apps/commands.h"
 #include "apps/options.h"
 #include "peers/peer.h"
-#include "ldlpgs/physics/mjcf.h"
+#include "ldlpgs/physics/io/mjcf.h"
 #include "apps/controls.h"
 #include "ldlpgs/sparse/error.h"
 

@@ -33,8 +33,8 @@
 #include "apps/sweep.h"
 #include "apps/verification.h"
 #include "ldlpgs/sparse/error.h"
-#include "ldlpgs/physics/mjcf.h"
-#include "ldlpgs/physics/scenes.h"
+#include "ldlpgs/physics/io/mjcf.h"
+#include "ldlpgs/physics/io/scenes.h"
 #include "ldlpgs/sparse/families.h"
 #include "ldlpgs/version.h"
 

@@ -24,7 +24,7 @@
 #include "apps/options.h"
 #include "apps/shatter_args.h"
 #include "ldlpgs/factor/symbolic.h"
-#include "ldlpgs/physics/scene.h"
+#include "ldlpgs/physics/io/scene.h"
 #include "ldlpgs/physics/step.h"
 #include "ldlpgs/sparse/error.h"
 

@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <string>
 
-#include <ldlpgs/physics/scene.h>
-#include <ldlpgs/physics/scenes.h>
+#include <ldlpgs/physics/io/scene.h>
+#include <ldlpgs/physics/io/scenes.h>
 #include <ldlpgs/physics/step.h>
 #include <ldlpgs/sparse/error.h>
 

@@ -1,9 +1,9 @@
-// Fuzz target: the scene JSON reader (load_scene, physics/scene.h). Bad input must be an
+// Fuzz target: the scene JSON reader (load_scene, physics/io/scene.h). Bad input must be an
 // InputError (one line); an accepted scene is written back (scene_to_json) and parsed again.
 #include <cstring>
 
 #include "fuzz/fuzz_common.h"
-#include "ldlpgs/physics/scene.h"
+#include "ldlpgs/physics/io/scene.h"
 
 using namespace ldlpgs;
 

@@ -15,7 +15,7 @@ PeerResult run_bullet(const Mechanism& m, double seconds, int iterations, bool t
 PeerResult run_mujoco(const Mechanism& m, double seconds);
 // Reduced coordinates; forests only. rk4: MuJoCo's RK4 at timestep / 16 (the tree reference).
 PeerResult run_mujoco_tree(const Mechanism& m, double seconds, bool rk4 = false);
-// The MJCF file `path` that `m` was loaded from (physics/mjcf.h), stepped by MuJoCo itself with
+// The MJCF file `path` that `m` was loaded from (physics/io/mjcf.h), stepped by MuJoCo itself with
 // springs, damping, armature, friction loss and actuators off, and contacts off unless `m` has
 // shapes; rk4 as above.
 PeerResult run_mujoco_mjcf(const std::string& path, const Mechanism& m, double seconds, bool rk4 = false);

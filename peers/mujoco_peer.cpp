@@ -25,9 +25,9 @@
 //
 // And, for a scene read from an MJCF file, that file itself (run_mujoco_mjcf): MuJoCo's own
 // model in its reduced coordinates, as the file has it (joint dynamics, actuators at zero
-// controls, fluid forces: what physics/mjcf.h converts), but contacts off where the conversion kept
+// controls, fluid forces: what physics/io/mjcf.h converts), but contacts off where the conversion kept
 // no shape (with shapes, MuJoCo collides its own geoms, the floor included). Its bodies are ours
-// with the same index (physics/mjcf.h), our centres of mass its xipos.
+// with the same index (physics/io/mjcf.h), our centres of mass its xipos.
 #include <mujoco/mujoco.h>
 
 #include <unistd.h>

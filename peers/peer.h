@@ -63,7 +63,7 @@ struct PeerEngine {
 
 const std::vector<PeerEngine>& peer_engines();
 const PeerEngine* find_peer(std::string_view name);  // nullptr if none has that name
-// For a scene loaded from the MJCF file `path` (physics/mjcf.h): "mujoco-mjcf", MuJoCo stepping
+// For a scene loaded from the MJCF file `path` (physics/io/mjcf.h): "mujoco-mjcf", MuJoCo stepping
 // that file in its own reduced coordinates with what the conversion drops turned off (springs,
 // damping, armature, friction loss, actuators; contacts too unless the converted mechanism has
 // shapes: then MuJoCo collides its own geoms); the natural MuJoCo peer of a real model.

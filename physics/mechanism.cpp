@@ -5,7 +5,7 @@
 #include <cmath>
 #include <utility>
 
-#include "ldlpgs/physics/scene.h"
+#include "ldlpgs/physics/io/scene.h"
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/families.h"
 #include "ldlpgs/sparse/text.h"

@@ -7,7 +7,7 @@
 #include <utility>
 
 #include "ldlpgs/physics/mechanism.h"
-#include "ldlpgs/physics/scene.h"
+#include "ldlpgs/physics/io/scene.h"
 #include "ldlpgs/sparse/text.h"
 
 namespace ldlpgs {

@@ -10,9 +10,9 @@
 #include "apps/sweep_case.h"
 #include "bindings.h"
 #include "convert.h"
-#include "ldlpgs/physics/mjcf.h"
-#include "ldlpgs/physics/scene.h"
-#include "ldlpgs/physics/scenes.h"
+#include "ldlpgs/physics/io/mjcf.h"
+#include "ldlpgs/physics/io/scene.h"
+#include "ldlpgs/physics/io/scenes.h"
 #include "ldlpgs/physics/step.h"
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/text.h"
@@ -166,7 +166,7 @@ Simulation make_simulation(py::handle scene, const std::string& solver, int iter
 }  // namespace
 
 void bind_physics(py::module_& m) {
-  m.def("builtin_scenes", &builtin_scene_names, "The built-in scenes' names (physics/scenes.h).");
+  m.def("builtin_scenes", &builtin_scene_names, "The built-in scenes' names (physics/io/scenes.h).");
   m.def("solvers", [] { return std::vector<std::string>(solver_names().begin(), solver_names().end()); });
 
   m.def(

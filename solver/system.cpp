@@ -12,7 +12,7 @@ namespace ldlpgs {
 int System::add_block(int size, int column_a, int column_b) {
   // The public API's check, in every build. One column on both sides is refused: H_0's product
   // for the pair (EqualityMatrix) would keep J_a W J_b^T and drop its mirror J_b W J_a^T (a
-  // constraint joins two different bodies; physics/scene.cpp refuses the same body twice).
+  // constraint joins two different bodies; physics/io/scene.cpp refuses the same body twice).
   if (size <= 0) throw ArgumentError("System::add_block: a block of " + std::to_string(size) + " rows");
   for (const int c : {column_a, column_b})
     if (c < -1 || c >= num_columns)

@@ -12,7 +12,7 @@
 #include "ldlpgs/ordering/certify.h"
 #include "ldlpgs/ordering/metrics.h"
 #include "ldlpgs/ordering/ordering.h"
-#include "ldlpgs/physics/scenes.h"
+#include "ldlpgs/physics/io/scenes.h"
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/families.h"
 

@@ -13,8 +13,8 @@
 #include <string>
 #include <utility>
 
-#include "ldlpgs/physics/mjcf.h"
-#include "ldlpgs/physics/scenes.h"
+#include "ldlpgs/physics/io/mjcf.h"
+#include "ldlpgs/physics/io/scenes.h"
 #include "tests/support/bodies.h"
 #include "tests/support/program.h"
 

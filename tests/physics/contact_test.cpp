@@ -13,7 +13,7 @@
 
 #include "ldlpgs/physics/collision.h"
 #include "ldlpgs/physics/contact.h"
-#include "ldlpgs/physics/scenes.h"
+#include "ldlpgs/physics/io/scenes.h"
 #include "ldlpgs/physics/step.h"
 #include "ldlpgs/sparse/error.h"
 #include "tests/support/allocation_counter.h"  // (replaces operator new: one per executable)

@@ -1,9 +1,9 @@
-// The MJCF input check (physics/mjcf_input.h) against MuJoCo 2.2.2's own loader (Debian's
+// The MJCF input check (physics/io/mjcf_input.h) against MuJoCo 2.2.2's own loader (Debian's
 // libmujoco-dev), the reference: what MuJoCo loads with finite numbers passes (every <option>
 // attribute and <flag> keyword of its schema, every shipped and Gymnasium model, numbers written
 // as MuJoCo and tinyxml2 read them, includes found where MuJoCo finds them), and a non-finite
 // number in a numeric attribute is refused, naming file, line, element and attribute.
-#include "ldlpgs/physics/mjcf_input.h"
+#include "ldlpgs/physics/io/mjcf_input.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
-// MJCF models as mechanisms (physics/mjcf.h), checked against MuJoCo itself: for every shipped
+// MJCF models as mechanisms (physics/io/mjcf.h), checked against MuJoCo itself: for every shipped
 // model we can represent, the counts and masses MuJoCo reports, the centres of mass of its
 // kinematics, and, at random configurations MuJoCo computes, that every joint row holds (c = 0)
 // and annihilates every motion MuJoCo's coordinates allow (J V = 0 for the Jacobian of each dof)
 // while the rows number exactly 6 n - nv: the rows remove exactly the degrees of freedom the
 // joints do not allow. Then the humanoid in free fall, and one named test per bad input.
-#include "ldlpgs/physics/mjcf.h"
+#include "ldlpgs/physics/io/mjcf.h"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // builders' arguments), round trips through scene_to_json and through a file reproducing every
 // body and every constraint's local data, and one named test per kind of bad input, each
 // checking that the one-line message names the file and the entry.
-#include "ldlpgs/physics/scene.h"
+#include "ldlpgs/physics/io/scene.h"
 
 #include <gtest/gtest.h>
 

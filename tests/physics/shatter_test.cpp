@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "ldlpgs/physics/scenes.h"
+#include "ldlpgs/physics/io/scenes.h"
 #include "ldlpgs/physics/step.h"
 #include "tests/support/bodies.h"
 #include "tests/support/mechanism_compare.h"

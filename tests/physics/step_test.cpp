@@ -4,7 +4,7 @@
 #include "ldlpgs/physics/step.h"
 
 #include "ldlpgs/factor/symbolic.h"
-#include "ldlpgs/physics/scenes.h"
+#include "ldlpgs/physics/io/scenes.h"
 #include "ldlpgs/sparse/error.h"
 #include "tests/support/allocation_counter.h"  // (replaces operator new: one per executable)
 #include "tests/support/bodies.h"

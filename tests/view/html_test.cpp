@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string>
 
-#include "ldlpgs/physics/scenes.h"
+#include "ldlpgs/physics/io/scenes.h"
 
 namespace ldlpgs::view {
 namespace {

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "ldlpgs/physics/scenes.h"
+#include "ldlpgs/physics/io/scenes.h"
 
 namespace ldlpgs::view {
 namespace {

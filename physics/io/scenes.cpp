@@ -2,7 +2,7 @@
 // inertias are those of uniform solids of the stated dimensions; every joint is built at a world
 // point and axis of the initial pose (constraint.h), so the equality constraints hold there
 // exactly, and the bodies are laid out so that the joints sit where the bodies meet.
-#include "ldlpgs/physics/scenes.h"
+#include "ldlpgs/physics/io/scenes.h"
 
 #include <charconv>
 #include <cmath>
@@ -12,8 +12,8 @@
 #include <string_view>
 #include <vector>
 
-#include "ldlpgs/physics/mjcf.h"
-#include "ldlpgs/physics/scene.h"
+#include "ldlpgs/physics/io/mjcf.h"
+#include "ldlpgs/physics/io/scene.h"
 #include "ldlpgs/sparse/error.h"
 
 namespace ldlpgs {

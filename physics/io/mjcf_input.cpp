@@ -1,5 +1,5 @@
 // MJCF input hardening (mjcf_input.h): MuJoCo's numbers checked in the XML before MuJoCo reads it.
-#include "ldlpgs/physics/mjcf_input.h"
+#include "ldlpgs/physics/io/mjcf_input.h"
 
 #include <algorithm>
 #include <cctype>

@@ -31,7 +31,7 @@
 // type's refused; the values must pass shape_problem; a plane's normal (body frame) is normalized
 // after that check. A constraint's "collide" (default false): whether the shapes of the two
 // bodies it joins touch each other.
-#include "ldlpgs/physics/scene.h"
+#include "ldlpgs/physics/io/scene.h"
 
 #include <algorithm>
 #include <cerrno>

@@ -36,8 +36,8 @@ bool builtin_scene(std::string_view name, Mechanism* mechanism);
 
 struct MjcfDropped;
 // What the program, the Python module and a user's code accept as a mechanism: an MJCF model by
-// its .xml extension (physics/mjcf.h; `dropped`, if given, receives what it left out, and
-// `allow_dropped` steps a model with unmodelled dynamics), a scene file (physics/scene.h), or a
+// its .xml extension (physics/io/mjcf.h; `dropped`, if given, receives what it left out, and
+// `allow_dropped` steps a model with unmodelled dynamics), a scene file (physics/io/scene.h), or a
 // built-in scene's name. InputError otherwise, listing the names.
 Mechanism load_mechanism(const std::string& spec, MjcfDropped* dropped = nullptr, bool allow_dropped = false);
 

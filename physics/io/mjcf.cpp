@@ -3,7 +3,7 @@
 // xipos/ximat (each body's centre of mass and principal frame, our RigidBody's pose), xanchor
 // and xaxis (each joint's point and axis, world frame), xpos/xquat (body frames, for the
 // equalities' data, which MuJoCo gives in body frames).
-#include "ldlpgs/physics/mjcf.h"
+#include "ldlpgs/physics/io/mjcf.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,8 +17,8 @@
 
 #include <Eigen/Geometry>
 
-#include "ldlpgs/physics/mjcf_input.h"
-#include "ldlpgs/physics/scene.h"
+#include "ldlpgs/physics/io/mjcf_input.h"
+#include "ldlpgs/physics/io/scene.h"
 #include "ldlpgs/sparse/error.h"
 #include "ldlpgs/sparse/text.h"
 
