@@ -45,11 +45,10 @@ DofState dof_state(const DofDynamics& dof, const std::vector<RigidBody>& bodies,
   const Constraint& c = dof.coordinate;
   const RigidBody &a = bodies[c.body_a], &b = bodies[c.body_b];
   ChainFit own;
-  if (!fit_given) own = fit_chain(*c.chain, a, b, &c.coordinates);
-  const ChainFit& fit = fit_given ? *fit_given : own;
+  const ChainFit& fit = chain_fit(c, a, b, fit_given, &own);
   Twist z;
   DofState s;
-  s.q = chain_dof(*c.chain, fit, fit.q, c.joint, &z) + dof.offset;
+  s.q = chain_dof(*c.chain, fit, c.joint, &z) + dof.offset;
   chain_jacobian_row(*c.chain, z, a, b, s.row.data());
   const std::array<const Eigen::Vector3d*, 4> v = {&a.linear_velocity, &a.angular_velocity, &b.linear_velocity,
                                                    &b.angular_velocity};

@@ -106,21 +106,12 @@ double hinge_angle(const Constraint& c, const Pose& p, Vector3d* gradient) {
 // The slide of b's anchor along a's axis, n = R_a n_a: n . d (a slide row).
 double slide_value(const Constraint& c, const Pose& p) { return axis_a(c, p, 2).dot(p.d); }
 
-// The chain's fit: the shared one given (chain_fits.h), else one from the constraint's own last
-// coordinates, into *own.
-const ChainFit& chain_fit(const Constraint& c, const RigidBody& a, const RigidBody& b, const ChainFit* given,
-                          ChainFit* own) {
-  if (given) return *given;
-  *own = fit_chain(*c.chain, a, b, &c.coordinates);
-  return *own;
-}
-
 // The coordinate a coordinate_limit bounds, and the covector of its rate.
 double coordinate_value(const Constraint& c, const RigidBody& a, const RigidBody& b, const ChainFit* given,
                         Twist* covector) {
   ChainFit own;
   const ChainFit& fit = chain_fit(c, a, b, given, &own);
-  return chain_coordinate(*c.chain, fit, fit.q, c.joint, covector);
+  return chain_coordinate(*c.chain, fit, c.joint, covector);
 }
 
 // The shared part of the builders: the bodies and the world anchors in each body's frame
@@ -153,6 +144,13 @@ void set_frames(const RigidBody& a, const RigidBody& b, const Vector3d& axis, Co
 }
 
 }  // namespace
+
+const ChainFit& chain_fit(const Constraint& c, const RigidBody& a, const RigidBody& b, const ChainFit* given,
+                          ChainFit* own) {
+  if (given) return *given;
+  *own = fit_chain(*c.chain, a, b, &c.coordinates);
+  return *own;
+}
 
 int num_rows(ConstraintType type) {
   switch (type) {
@@ -334,7 +332,7 @@ ConstraintRows evaluate(const Constraint& constraint, const RigidBody& a, const 
       ChainFit own;
       const ChainFit& fit = chain_fit(c, a, b, fit_given, &own);
       Twist z;
-      chain_dof(*c.chain, fit, fit.q, c.joint, &z);
+      chain_dof(*c.chain, fit, c.joint, &z);
       out.angular[0] = dof_is_angular(*c.chain, c.joint);
       chain_jacobian_row(*c.chain, z, a, b, out.jacobian.data());
       break;

@@ -92,6 +92,12 @@ struct ConstraintRows {
   std::array<double, kMaxConstraintRows * 12> jacobian{};
 };
 
+// The fit of a chain-carrying constraint's chain at the bodies' pose: `given` (a shared one,
+// chain_fits.h) where not null, else fitted into *own from the constraint's own last coordinates
+// (which receive the new ones).
+const ChainFit& chain_fit(const Constraint& c, const RigidBody& a, const RigidBody& b, const ChainFit* given,
+                          ChainFit* own);
+
 // `fit`: the constraint's chain fitted at this pose (ChainFits, chain_fits.h), shared with the
 // other constraints on the chain; null: fitted here from the constraint's own last coordinates.
 ConstraintRows evaluate(const Constraint& constraint, const RigidBody& a, const RigidBody& b,

@@ -130,7 +130,7 @@ Motion relative_pose(const JointChain& chain, const RigidBody& a, const RigidBod
 }
 
 // S^+, n x 6 (n <= 6 dofs). Where S has full column rank by a margin (every joint set but a
-// redundant one) from the normal equations, S^+ = (S^T S)^-1 S^T: an n x n LDL^T, several times
+// redundant one) from the normal equations, S^+ = (S^T S)^-1 S^T: an n x n Cholesky, several times
 // cheaper than the SVD that was most of a humanoid's step (papers/physics.md, "MJCF models").
 // Else by singular values, those below kSingular of the largest taken as zero: the least-norm
 // step where joints are redundant (two hinges on one axis). The normal equations square S's
@@ -397,9 +397,9 @@ int first_dof(const JointChain& chain, int joint) {
 
 }  // namespace
 
-double chain_coordinate(const JointChain& chain, const ChainFit& fit, const ChainCoordinates& q, int joint,
-                        Twist* covector) {
+double chain_coordinate(const JointChain& chain, const ChainFit& fit, int joint, Twist* covector) {
   assert(joint >= 0 && joint < static_cast<int>(chain.joints.size()));
+  const ChainCoordinates& q = fit.q;
   const int dof = first_dof(chain, joint);
   const auto rate = [&](int i) -> Twist { return fit.rates.row(i).transpose(); };
   if (chain.joints[joint].type != ChainJointType::ball) {
@@ -424,10 +424,10 @@ bool dof_is_angular(const JointChain& chain, int dof) {
   return false;
 }
 
-double chain_dof([[maybe_unused]] const JointChain& chain, const ChainFit& fit, const ChainCoordinates& q, int dof, Twist* covector) {
+double chain_dof([[maybe_unused]] const JointChain& chain, const ChainFit& fit, int dof, Twist* covector) {
   assert(dof >= 0 && dof < chain.dofs);
   *covector = fit.rates.row(dof).transpose();
-  return q[dof];
+  return fit.q[dof];
 }
 
 void chain_jacobian_row(const JointChain& chain, const Twist& covector, const RigidBody& a, const RigidBody& b,

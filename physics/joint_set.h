@@ -98,12 +98,11 @@ ChainCovectors chain_row_covectors(const JointChain& chain, const ChainFit& fit)
 
 // Joint k's coordinate at q (hinge, slide: q_k from q = 0; ball: its angle) and the covector of
 // its rate.
-double chain_coordinate(const JointChain& chain, const ChainFit& fit, const ChainCoordinates& q, int joint,
-                        Twist* covector);
+double chain_coordinate(const JointChain& chain, const ChainFit& fit, int joint, Twist* covector);
 
 // Dof i's coordinate q_i and the covector of its rate, MuJoCo's qvel entry (a ball's three dofs:
 // its rotation vector and the child-frame angular velocity, as the ball composes on the right).
-double chain_dof(const JointChain& chain, const ChainFit& fit, const ChainCoordinates& q, int dof, Twist* covector);
+double chain_dof(const JointChain& chain, const ChainFit& fit, int dof, Twist* covector);
 // Dof i turns (a hinge's or a ball's: radians) rather than slides (metres).
 bool dof_is_angular(const JointChain& chain, int dof);
 
